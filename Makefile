@@ -1,0 +1,40 @@
+# bemcontact: the README's commands.  Each target installs what it needs into
+# a local virtual environment (.venv) first, so a fresh clone needs only
+# CPython >= 3.11, a C++17 compiler and cmake.
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+CPP_SRC := $(wildcard cpp/bemcontact/*.cpp cpp/bemcontact/*.hpp)
+BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
+RUN_DEPS := numpy scipy meshio gmsh matplotlib pytest
+
+.PHONY: all install demo test test-fast bench clean
+
+all: install
+
+$(VENV)/.deps: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS)
+	touch $@
+
+$(VENV)/.built: $(VENV)/.deps $(CPP_SRC) CMakeLists.txt pyproject.toml
+	$(PY) -m pip install --quiet --no-build-isolation --no-deps -e .
+	touch $@
+
+install: $(VENV)/.built
+
+demo: install
+	$(PY) examples/compress_cube.py
+
+test: install
+	$(PY) -m pytest -q
+
+test-fast: install
+	$(PY) -m pytest -q -m "not slow"
+
+bench: install
+	$(PY) benchmarks/bem_one_body_N500_5000.py
+
+clean:
+	rm -rf build $(VENV)

@@ -1,0 +1,202 @@
+// nanobind bindings of the compiled core (module bemcontact._core).
+// Argument names equal the C++ names; validation happens in Python.
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "element.hpp"
+#include "operators.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace nb = nanobind;
+using namespace bemcontact;
+
+using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CInt64_1 = nb::ndarray<const int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using CInt32_1 = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using Double2 = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using NpArray = nb::ndarray<nb::numpy, double>;
+
+namespace {
+
+MeshView make_view(CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
+                   CDouble3 fxi) {
+  MeshView m;
+  m.nodes = nodes.data();
+  m.n_nodes = static_cast<int64_t>(nodes.shape(0));
+  m.etype = etype.data();
+  m.conn = conn.data();
+  m.fconn = fconn.data();
+  m.fxi = fxi.data();
+  m.n_elements = static_cast<int64_t>(etype.shape(0));
+  return m;
+}
+
+NpArray owned(double* data, std::initializer_list<size_t> shape) {
+  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+  return NpArray(data, shape.size(), shape.begin(), owner);
+}
+
+int default_threads() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+}  // namespace
+
+NB_MODULE(_core, mod) {
+  mod.doc() = "bemcontact compiled core: element bases, quadrature, BEM operators";
+
+  nb::class_<QuadratureParams>(mod, "QuadratureParams")
+      .def(nb::init<>())
+      .def_rw("tolerance", &QuadratureParams::tolerance)
+      .def_rw("min_order", &QuadratureParams::min_order)
+      .def_rw("max_order", &QuadratureParams::max_order)
+      .def_rw("singular_order", &QuadratureParams::singular_order)
+      .def_rw("max_angle", &QuadratureParams::max_angle)
+      .def_rw("max_depth", &QuadratureParams::max_depth);
+
+  mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
+
+  mod.def(
+      "assemble_influence",
+      [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
+         CDouble2 points, double shear_modulus, double nu, const QuadratureParams& q,
+         int threads, Double2 H, Double2 G) {
+        const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
+        const int64_t n = static_cast<int64_t>(points.shape(0));
+        const double* pts = points.data();
+        double* h = H.data();
+        double* g = G.data();
+        nb::gil_scoped_release release;
+        assemble_influence(m, pts, n, shear_modulus, nu, q, threads, h, g);
+      },
+      nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
+      nb::arg("points"), nb::arg("shear_modulus"), nb::arg("nu"), nb::arg("q"),
+      nb::arg("threads"), nb::arg("H"), nb::arg("G"),
+      "Fill H and G (3N x 3N, row-major) for collocation at `points` (N x 3).");
+
+  mod.def(
+      "element_influence",
+      [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
+         int64_t element, CDouble2 x, int local, double shear_modulus, double nu,
+         const QuadratureParams& q) {
+        const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
+        const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, 10), 1);
+        const Element& e = els.at(static_cast<size_t>(element));
+        const Kelvin K(shear_modulus, nu);
+        const size_t ld = 3 * e.n;
+        double* He = new double[3 * ld]();
+        double* Ge = new double[3 * ld]();
+        element_influence(e, x.data(), local, K, q, true, true, He, Ge);
+        return nb::make_tuple(owned(He, {3, ld}), owned(Ge, {3, ld}));
+      },
+      nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
+      nb::arg("element"), nb::arg("x"), nb::arg("local"), nb::arg("shear_modulus"),
+      nb::arg("nu"), nb::arg("q"),
+      "Influence (H_e, G_e), each 3 x 3n, of one element on the point x (1 x 3).");
+
+  mod.def(
+      "map_points",
+      [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_1 elements, CDouble2 xi) {
+        const size_t n = elements.shape(0);
+        double* X = new double[3 * n];
+        double* Nn = new double[3 * n];
+        double* J = new double[n];
+        for (size_t p = 0; p < n; ++p) {
+          const int64_t e = elements.data()[p];
+          const int t = etype.data()[e];
+          double Xe[kMaxNodes][3];
+          for (int k = 0; k < nodes_per_element(t); ++k) {
+            const int64_t g = conn.data()[e * kMaxNodes + k];
+            for (int d = 0; d < 3; ++d) Xe[k][d] = nodes.data()[3 * g + d];
+          }
+          const SurfacePoint sp = map_point(t, Xe, xi.data()[2 * p], xi.data()[2 * p + 1]);
+          for (int d = 0; d < 3; ++d) {
+            X[3 * p + d] = sp.x[d];
+            Nn[3 * p + d] = sp.n[d];
+          }
+          J[p] = sp.jac;
+        }
+        return nb::make_tuple(owned(X, {n, 3}), owned(Nn, {n, 3}), owned(J, {n}));
+      },
+      nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("elements"), nb::arg("xi"),
+      "Positions, unit normals and surface Jacobians at local points xi (P x 2) of elements (P,).");
+
+  mod.def(
+      "surface_quadrature",
+      [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
+         int order) {
+        const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
+        const size_t ne = static_cast<size_t>(m.n_elements);
+        const size_t nq = static_cast<size_t>(order) * order;
+        double* X = new double[ne * nq * 3];
+        double* Nn = new double[ne * nq * 3];
+        double* W = new double[ne * nq];
+        double* Phi = new double[ne * nq * kMaxNodes]();
+        for (size_t ie = 0; ie < ne; ++ie) {
+          const int t = m.etype[ie];
+          const int n = nodes_per_element(t);
+          double Xe[kMaxNodes][3], xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
+          for (int k = 0; k < n; ++k) {
+            const int64_t g = m.conn[ie * kMaxNodes + k];
+            for (int d = 0; d < 3; ++d) Xe[k][d] = m.nodes[3 * g + d];
+            xf[k][0] = m.fxi[(ie * kMaxNodes + k) * 2];
+            xf[k][1] = m.fxi[(ie * kMaxNodes + k) * 2 + 1];
+          }
+          lagrange_coefficients(t, xf, cf);
+          Rule2D r;
+          if (is_triangle(t)) {
+            const double A[2] = {0, 0}, B[2] = {1, 0}, C[2] = {0, 1};
+            append_triangle_rule(r, order, order, A, B, C);
+          } else {
+            append_rectangle_rule(r, order, -1, 1, -1, 1);
+          }
+          for (size_t p = 0; p < nq; ++p) {
+            const SurfacePoint sp = map_point(t, Xe, r.xi[p], r.eta[p]);
+            const size_t o = ie * nq + p;
+            for (int d = 0; d < 3; ++d) {
+              X[3 * o + d] = sp.x[d];
+              Nn[3 * o + d] = sp.n[d];
+            }
+            W[o] = r.w[p] * sp.jac;
+            eval_basis(t, cf, r.xi[p], r.eta[p], Phi + kMaxNodes * o, nullptr, nullptr);
+          }
+        }
+        return nb::make_tuple(owned(X, {ne, nq, 3}), owned(Nn, {ne, nq, 3}),
+                              owned(W, {ne, nq}), owned(Phi, {ne, nq, (size_t)kMaxNodes}));
+      },
+      nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
+      nb::arg("order"),
+      "Gauss points (E x Q x 3), normals, weights*Jacobian (E x Q) and functional basis "
+      "values (E x Q x 9) with order x order points per element.");
+
+  mod.def(
+      "basis_conditioning",
+      [](CInt32_1 etype, CDouble3 fxi) {
+        const size_t ne = etype.shape(0);
+        double* out = new double[ne];
+        for (size_t ie = 0; ie < ne; ++ie) {
+          const int t = etype.data()[ie];
+          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
+          for (int k = 0; k < nodes_per_element(t); ++k) {
+            xf[k][0] = fxi.data()[(ie * kMaxNodes + k) * 2];
+            xf[k][1] = fxi.data()[(ie * kMaxNodes + k) * 2 + 1];
+          }
+          out[ie] = lagrange_coefficients(t, xf, cf);
+        }
+        return owned(out, {ne});
+      },
+      nb::arg("etype"), nb::arg("fxi"),
+      "Smallest relative pivot of each element's functional Vandermonde matrix (0: not unisolvent).");
+}

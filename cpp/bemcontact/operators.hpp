@@ -1,0 +1,71 @@
+// Collocation BEM influence matrices with the Kelvin fundamental solution.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "element.hpp"
+#include "quadrature.hpp"
+
+namespace bemcontact {
+
+// A validated surface discretization, as plain arrays (owned by Python).
+struct MeshView {
+  const double* nodes = nullptr;   // (n_nodes, 3)
+  const int32_t* etype = nullptr;  // (n_elements,)
+  const int64_t* conn = nullptr;   // (n_elements, 9) geometric nodes, -1 padded
+  const int64_t* fconn = nullptr;  // (n_elements, 9) functional nodes, -1 padded
+  const double* fxi = nullptr;     // (n_elements, 9, 2) local coords of functional nodes
+  int64_t n_nodes = 0;
+  int64_t n_elements = 0;
+};
+
+struct QuadratureParams {
+  double tolerance = 1e-12;  // target relative error of each regular integral
+  int min_order = 2;         // Gauss points per direction, regular rule
+  int max_order = 8;         // above this, the element is subdivided instead
+  int singular_order = 12;   // radial and angular order of the polar rule
+  double max_angle = 0.7854; // polar rule: largest angle of one sub-triangle (rad)
+  int max_depth = 14;        // subdivision depth limit (nearly singular)
+};
+
+struct Kelvin {
+  double c1, c2, a, b;  // U = c1 [a delta + r_i r_j] / r ; T uses b = 1 - 2 nu
+  Kelvin(double shear_modulus, double nu)
+      : c1(1.0 / (16.0 * M_PI * shear_modulus * (1.0 - nu))),
+        c2(1.0 / (8.0 * M_PI * (1.0 - nu))),
+        a(3.0 - 4.0 * nu),
+        b(1.0 - 2.0 * nu) {}
+};
+
+// One element, prepared for integration.
+struct Element {
+  int type = 0, n = 0;
+  double X[kMaxNodes][3];
+  int64_t f[kMaxNodes];
+  double fxi[kMaxNodes][2];
+  double cf[kMaxNodes * kMaxNodes];  // functional Lagrange coefficients
+  double centroid[3], radius, diam;
+  // cached regular rules: per order o (index o), packed points
+  // [x(3), n(3), wJ, phi(n)] each.
+  std::vector<std::vector<double>> cache;
+};
+
+std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, int threads);
+
+// Influence of element e on collocation point x (3 x 3n blocks, row-major,
+// column 3k + j for functional node k, component j).  If `local` >= 0 the
+// point is functional node `local` of the element (singular integration; the
+// H column of that node is left zero).
+void element_influence(const Element& e, const double* x, int local, const Kelvin& K,
+                       const QuadratureParams& q, bool want_h, bool want_g, double* He,
+                       double* Ge);
+
+// Full H and G (3N x 3N, row-major), N = number of functional nodes; the
+// diagonal blocks of H (free term + principal value) come from rigid-body
+// translation.  Points: (N, 3) collocation points.
+void assemble_influence(const MeshView& m, const double* points, int64_t n_points,
+                        double shear_modulus, double nu, const QuadratureParams& q,
+                        int threads, double* H, double* G);
+
+}  // namespace bemcontact

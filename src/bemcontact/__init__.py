@@ -1,0 +1,45 @@
+"""bemcontact: 3D frictional contact between linear elastic bodies with the
+Boundary Element Method.
+
+Conventions (units, signs, array shapes) are in docs/theory.md.
+"""
+
+from __future__ import annotations
+
+from .body import BodySolution, Displacement, ElasticBody, Fixed, Pressure, Traction
+from .errors import BemcontactError, ConfigError, ConvergenceError, MaterialError, MeshError
+from .material import LinearElastic
+from .mesh import SurfaceMesh, box, read_mesh
+from .operators import (
+    Discretization,
+    DiscretizationOptions,
+    QuadratureOptions,
+    assemble_influence,
+    discretize,
+)
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "__version__",
+    "BemcontactError",
+    "ConfigError",
+    "ConvergenceError",
+    "MaterialError",
+    "MeshError",
+    "LinearElastic",
+    "SurfaceMesh",
+    "box",
+    "read_mesh",
+    "QuadratureOptions",
+    "DiscretizationOptions",
+    "Discretization",
+    "discretize",
+    "assemble_influence",
+    "ElasticBody",
+    "BodySolution",
+    "Displacement",
+    "Traction",
+    "Pressure",
+    "Fixed",
+]

@@ -1,0 +1,370 @@
+"""An elastic body: a closed surface mesh, a material and boundary conditions.
+
+Boundary conditions are given per region and per global component.  A
+component with no prescribed value is traction free.  Displacements are in
+length units, tractions in stress units; traction is the force per area the
+*surroundings exert on the body*, t = sigma n with n the outward normal, so a
+pressure p (> 0 compressive) is t = -p n.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Union
+
+import numpy as np
+import scipy.linalg
+
+from .errors import ConfigError, MeshError
+from .material import LinearElastic
+from .mesh import SurfaceMesh
+from .operators import (
+    Discretization,
+    DiscretizationOptions,
+    QuadratureOptions,
+    assemble_influence,
+    discretize,
+)
+
+ComponentValue = Union[float, None]
+FieldValue = Union[Sequence[ComponentValue], Callable[[np.ndarray], Any]]
+
+
+def _check_value(kind: str, value: Any) -> Any:
+    if callable(value):
+        return value
+    try:
+        seq = list(value)
+    except TypeError:
+        raise ConfigError(
+            f"{kind}: value must be 3 components (numbers or None) or a callable of the "
+            f"points, got {value!r}"
+        ) from None
+    if len(seq) != 3:
+        raise ConfigError(f"{kind}: value must have 3 components (x, y, z), got {value!r}")
+    out = []
+    for c in seq:
+        if c is None:
+            out.append(None)
+            continue
+        if isinstance(c, bool) or not isinstance(c, (int, float, np.floating, np.integer)):
+            raise ConfigError(f"{kind}: component {c!r} is not a number or None")
+        if not np.isfinite(c):
+            raise ConfigError(f"{kind}: component {c!r} is not finite")
+        out.append(float(c))
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Displacement:
+    """Prescribed displacement components (global x, y, z); ``None`` leaves a
+    component free (traction free unless a :class:`Traction` sets it).  The
+    value may be a callable ``f(points (n, 3)) -> (n, 3)`` (NaN entries mean
+    free)."""
+
+    value: FieldValue
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _check_value("Displacement", self.value))
+
+
+@dataclass(frozen=True)
+class Traction:
+    """Prescribed traction components (global x, y, z; force per area acting on
+    the body); ``None`` leaves a component free.  May be a callable
+    ``f(points, normals) -> (n, 3)``."""
+
+    value: FieldValue
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _check_value("Traction", self.value))
+
+
+@dataclass(frozen=True)
+class Pressure:
+    """Normal pressure p (> 0 pushes on the body): t = -p n on all components."""
+
+    pressure: float
+
+    def __post_init__(self) -> None:
+        p = self.pressure
+        if isinstance(p, bool) or not isinstance(p, (int, float, np.floating)) or not np.isfinite(p):
+            raise ConfigError(f"Pressure: pressure must be a finite number, got {p!r}")
+
+
+def Fixed() -> Displacement:
+    """All displacement components zero (clamped)."""
+    return Displacement((0.0, 0.0, 0.0))
+
+
+BoundaryCondition = Union[Displacement, Traction, Pressure]
+
+
+@dataclass
+class BodySolution:
+    """Nodal results of one elastic solve (N functional nodes).
+
+    Attributes
+    ----------
+    points, normals: (N, 3) collocation points and outward unit normals.
+    displacement, traction: (N, 3) global components.
+    weights: (N,) ∫ phi_i dS.
+    region: (N,) region index per node; ``region_names`` the names.
+    discretization: the :class:`~bemcontact.operators.Discretization`.
+    timings: seconds per stage (assembly, solve).
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    displacement: np.ndarray
+    traction: np.ndarray
+    weights: np.ndarray
+    region: np.ndarray
+    region_names: tuple[str, ...]
+    discretization: Discretization
+    timings: dict[str, float] = field(default_factory=dict)
+
+    def nodes_of(self, region: str) -> np.ndarray:
+        if region not in self.region_names:
+            raise ConfigError(f"unknown region {region!r}; regions are {list(self.region_names)}")
+        return np.flatnonzero(self.region == self.region_names.index(region))
+
+    def reaction(self, region: str) -> np.ndarray:
+        """Resultant force (3,) the surroundings exert on ``region``: ∫ t dS."""
+        i = self.nodes_of(region)
+        return self.weights[i] @ self.traction[i]
+
+    def reactions(self) -> dict[str, np.ndarray]:
+        return {r: self.reaction(r) for r in self.region_names}
+
+
+class ElasticBody:
+    """A homogeneous linear elastic body bounded by a closed surface.
+
+    Parameters
+    ----------
+    mesh:
+        Closed, outward-oriented :class:`~bemcontact.mesh.SurfaceMesh`
+        (checked with :meth:`SurfaceMesh.check`).
+    material:
+        :class:`~bemcontact.material.LinearElastic`.
+    boundary_conditions:
+        Region name -> a boundary condition or a list of them (at most one
+        prescription per component).  Regions not listed are traction free.
+    quadrature, discretization:
+        Integration and node-layout options.
+    name:
+        Used in messages.
+    """
+
+    def __init__(
+        self,
+        mesh: SurfaceMesh,
+        material: LinearElastic,
+        boundary_conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]]
+        | None = None,
+        *,
+        quadrature: QuadratureOptions | None = None,
+        discretization: DiscretizationOptions | None = None,
+        name: str = "body",
+    ) -> None:
+        if not isinstance(mesh, SurfaceMesh):
+            raise ConfigError(f"{name}: mesh must be a SurfaceMesh, got {type(mesh).__name__}")
+        if not isinstance(material, LinearElastic):
+            raise ConfigError(
+                f"{name}: material must be a LinearElastic, got {type(material).__name__}"
+            )
+        self.name = name
+        self.mesh = mesh.check()
+        self.material = material
+        self.quadrature = quadrature or QuadratureOptions()
+        self.discretization_options = discretization or DiscretizationOptions()
+        self.boundary_conditions: dict[str, tuple[BoundaryCondition, ...]] = {}
+        for region, bcs in (boundary_conditions or {}).items():
+            if region not in mesh.region_names:
+                raise ConfigError(
+                    f"{name}: boundary condition on unknown region {region!r}; the mesh has "
+                    f"regions {list(mesh.region_names)}"
+                )
+            items = tuple(bcs) if isinstance(bcs, (list, tuple)) else (bcs,)
+            taken: dict[int, str] = {}
+            for bc in items:
+                if not isinstance(bc, (Displacement, Traction, Pressure)):
+                    raise ConfigError(
+                        f"{name}: region {region!r}: {bc!r} is not a Displacement, Traction or "
+                        "Pressure"
+                    )
+                for c in self._components(bc):
+                    kind = type(bc).__name__
+                    if c in taken:
+                        raise ConfigError(
+                            f"{name}: region {region!r}: component {'xyz'[c]} is prescribed "
+                            f"twice ({taken[c]} and {kind}); give each component one condition"
+                        )
+                    taken[c] = kind
+            self.boundary_conditions[region] = items
+        self._disc: Discretization | None = None
+
+    @staticmethod
+    def _components(bc: BoundaryCondition) -> list[int]:
+        if isinstance(bc, Pressure):
+            return [0, 1, 2]
+        if callable(bc.value):
+            return [0, 1, 2]
+        return [c for c in range(3) if bc.value[c] is not None]
+
+    @property
+    def discretization(self) -> Discretization:
+        if self._disc is None:
+            self._disc = discretize(self.mesh, self.discretization_options)
+        return self._disc
+
+    def boundary_data(self) -> tuple[np.ndarray, np.ndarray]:
+        """(known_u (3N,) bool, values (3N,)): per dof, whether the displacement
+        is prescribed, and the prescribed displacement or traction."""
+        d = self.discretization
+        N = d.n_points
+        known_u = np.zeros((N, 3), dtype=bool)
+        values = np.zeros((N, 3))
+        for region, items in self.boundary_conditions.items():
+            idx = np.flatnonzero(d.region == self.mesh.region_names.index(region))
+            X, n = d.points[idx], d.normals[idx]
+            for bc in items:
+                if isinstance(bc, Pressure):
+                    values[idx] = -bc.pressure * n
+                    continue
+                if callable(bc.value):
+                    args = (X,) if isinstance(bc, Displacement) else (X, n)
+                    try:
+                        v = np.asarray(bc.value(*args), dtype=float)
+                    except Exception as exc:
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            f"failed: {type(exc).__name__}: {exc}"
+                        ) from exc
+                    if v.shape != (idx.size, 3):
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            f"returned shape {v.shape}, expected {(idx.size, 3)}"
+                        )
+                    mask = ~np.isnan(v)
+                    if np.isinf(v).any():
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            "returned infinite values"
+                        )
+                else:
+                    v = np.array([np.nan if c is None else c for c in bc.value])[None, :].repeat(
+                        idx.size, 0
+                    )
+                    mask = ~np.isnan(v)
+                sub_known = known_u[idx]
+                sub_vals = values[idx]
+                sub_vals[mask] = v[mask]
+                if isinstance(bc, Displacement):
+                    sub_known[mask] = True
+                known_u[idx] = sub_known
+                values[idx] = sub_vals
+        return known_u.ravel(), values.ravel()
+
+    def assemble(self, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Influence matrices (H, G) of this body (see
+        :func:`~bemcontact.operators.assemble_influence`)."""
+        m = self.material
+        return assemble_influence(
+            self.discretization, m.shear_modulus, m.poisson_ratio, self.quadrature, threads
+        )
+
+    def rigid_modes(self) -> np.ndarray:
+        """(3N, 6) rigid-body displacement modes at the functional nodes:
+        translations x, y, z, then rotations about x, y, z through the
+        weighted centroid."""
+        d = self.discretization
+        N = d.n_points
+        c = d.weights @ d.points / d.weights.sum()
+        x = d.points - c
+        R = np.zeros((N, 3, 6))
+        for j in range(3):
+            R[:, j, j] = 1.0
+            e = np.zeros(3)
+            e[j] = 1.0
+            R[:, :, 3 + j] = np.cross(e, x)
+        return R.reshape(3 * N, 6)
+
+    def solve(self, threads: int | None = None) -> BodySolution:
+        """Assemble and solve the mixed boundary value problem (LAPACK LU).
+
+        A body with no prescribed displacement is determined up to a rigid
+        motion; its tractions must then be self-equilibrated, and the solution
+        with zero weighted mean translation and rotation is returned.
+        """
+        d = self.discretization
+        t0 = time.perf_counter()
+        known_u, values = self.boundary_data()
+        H, G = self.assemble(threads)
+        t1 = time.perf_counter()
+        # b = G t_known - H u_known; A = H with the known-u columns replaced by -G
+        ku = np.flatnonzero(known_u)
+        kt = np.flatnonzero(~known_u)
+        b = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
+        A = H
+        A[:, ku] = -G[:, ku]
+        del G
+        free = ku.size == 0
+        if free:
+            R = self.rigid_modes()
+            w3 = np.repeat(d.weights, 3)
+            n = A.shape[0]
+            Ab = np.zeros((n + 6, n + 6))
+            Ab[:n, :n] = A
+            Ab[:n, n:] = R
+            Ab[n:, :n] = (R * w3[:, None]).T
+            A = Ab
+            b = np.concatenate([b, np.zeros(6)])
+        x = self._lu_solve(A, b)
+        t2 = time.perf_counter()
+        if free:
+            x = x[: 3 * d.n_points]
+        u = np.where(known_u, values, x)
+        t = np.where(known_u, x, values)
+        return BodySolution(
+            points=d.points,
+            normals=d.normals,
+            displacement=u.reshape(-1, 3),
+            traction=t.reshape(-1, 3),
+            weights=d.weights,
+            region=d.region,
+            region_names=self.mesh.region_names,
+            discretization=d,
+            timings={"assembly": t1 - t0, "solve": t2 - t1},
+        )
+
+    def _lu_solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+        # A is C-contiguous: A.T is Fortran-contiguous, so LAPACK factors A^T in
+        # place (no copy) and getrs solves with the transpose.
+        At = A.T
+        anorm = np.abs(A).sum(axis=0).max()  # ||A||_1 = ||A^T||_inf
+        lu, piv, info = scipy.linalg.lapack.dgetrf(At, overwrite_a=True)
+        rcond = 0.0
+        if info == 0:
+            rcond, _ = scipy.linalg.lapack.dgecon(lu, anorm, norm="I")
+        if info != 0 or not rcond >= 1e-14:
+            raise ConfigError(
+                f"{self.name}: the linear system is singular (reciprocal condition {rcond:.2e}): "
+                "the boundary conditions do not fix the body against rigid motion; prescribe "
+                "displacement components that stop translation and rotation"
+            )
+        x, info = scipy.linalg.lapack.dgetrs(lu, piv, b, trans=1)
+        return x
+
+
+__all__ = [
+    "ElasticBody",
+    "BodySolution",
+    "Displacement",
+    "Traction",
+    "Pressure",
+    "Fixed",
+]

@@ -1,0 +1,40 @@
+"""The one exception hierarchy of bemcontact.
+
+Every error that bemcontact raises on purpose is a :class:`BemcontactError`.
+The subclasses also derive from the built-in exception a caller would expect
+(``ValueError`` for bad input, ``RuntimeError`` for a solve that failed), so
+``except ValueError`` keeps working.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+
+class BemcontactError(Exception):
+    """Base class of every error raised by bemcontact."""
+
+
+class MeshError(BemcontactError, ValueError):
+    """A mesh is malformed: non-finite nodes, degenerate or inverted elements,
+    an open surface, unknown element types or region names."""
+
+
+class MaterialError(BemcontactError, ValueError):
+    """A material constant is out of its physical range."""
+
+
+class ConfigError(BemcontactError, ValueError):
+    """Boundary conditions, options or a problem description are inconsistent."""
+
+
+class ConvergenceError(BemcontactError, RuntimeError):
+    """An iterative solve did not converge; ``result`` holds what was reached
+    (including the residual history)."""
+
+    def __init__(self, message: str, result: Any = None) -> None:
+        super().__init__(message)
+        self.result = result
+
+
+__all__ = ["BemcontactError", "MeshError", "MaterialError", "ConfigError", "ConvergenceError"]
