@@ -26,6 +26,8 @@ inline int regular_order(double R, const QuadratureParams& q) {
   const double beta = 2.0 * R;
   const double rho = beta + std::sqrt(beta * beta + 1.0);
   const double n = std::log(1.0 / q.tolerance) / (2.0 * std::log(rho)) + 1.0;
+  // (a tiny R gives a huge n: cap before converting, int overflow would wrap)
+  if (!(n < q.max_order + 1.0)) return q.max_order + 1;
   int o = static_cast<int>(std::ceil(n));
   return std::max(o, q.min_order);
 }
@@ -182,9 +184,35 @@ inline const double (*corner_coords(int t))[2] {
   return is_triangle(t) ? tri : quad;
 }
 
-// Polar (Duffy) rule around the local point xi0: one collapsed sub-triangle per
-// element side not containing xi0, split so that no sub-triangle spans more
-// than q.max_angle.
+// Polar (Duffy) rule around the local point xi0: one collapsed sub-triangle
+// (xi0, P, Q) per piece PQ of each element side not containing xi0.  A side is
+// bisected until every piece spans at most q.max_angle seen from xi0 and is
+// no longer than its distance to xi0; then the integrand's nearest complex
+// singularity in the Duffy angular parameter lies at least about one piece
+// length away, and Gauss converges geometrically (same order as the regular
+// rule).  Equal-angle splitting alone leaves grazing pieces badly resolved.
+void append_polar_piece(const double* xi0, const double* P, const double* Q,
+                        const QuadratureParams& q, int depth, Rule2D& rule) {
+  const double vp[2] = {P[0] - xi0[0], P[1] - xi0[1]};
+  const double vq[2] = {Q[0] - xi0[0], Q[1] - xi0[1]};
+  const double e0 = Q[0] - P[0], e1 = Q[1] - P[1];
+  const double len = std::sqrt(e0 * e0 + e1 * e1);
+  const double ang = std::fabs(std::atan2(vp[0] * vq[1] - vp[1] * vq[0],
+                                          vp[0] * vq[0] + vp[1] * vq[1]));
+  // distance from xi0 to the segment PQ
+  double t = -(vp[0] * e0 + vp[1] * e1) / (len * len);
+  t = std::min(1.0, std::max(0.0, t));
+  const double f0 = vp[0] + t * e0, f1 = vp[1] + t * e1;
+  const double dseg = std::sqrt(f0 * f0 + f1 * f1);
+  if (depth < 12 && (ang > q.max_angle || len > 0.5 * dseg)) {
+    const double M[2] = {0.5 * (P[0] + Q[0]), 0.5 * (P[1] + Q[1])};
+    append_polar_piece(xi0, P, M, q, depth + 1, rule);
+    append_polar_piece(xi0, M, Q, q, depth + 1, rule);
+    return;
+  }
+  append_triangle_rule(rule, q.singular_order, q.singular_order, xi0, P, Q);
+}
+
 void singular_rule(const Element& e, const double* xi0, const QuadratureParams& q,
                    Rule2D& rule) {
   const int nc = n_corners(e.type);
@@ -198,28 +226,7 @@ void singular_rule(const Element& e, const double* xi0, const QuadratureParams& 
     const double len = std::sqrt(e0 * e0 + e1 * e1);
     const double cr = va[0] * vb[1] - va[1] * vb[0];
     if (std::fabs(cr) / len <= 1e-13) continue;  // xi0 on this side
-    const double ang = std::atan2(cr, va[0] * vb[0] + va[1] * vb[1]);
-    const int m = std::max(1, static_cast<int>(std::ceil(std::fabs(ang) / q.max_angle)));
-    double prev[2] = {A[0], A[1]};
-    for (int j = 1; j <= m; ++j) {
-      double next[2];
-      if (j == m) {
-        next[0] = B[0];
-        next[1] = B[1];
-      } else {
-        const double phi = ang * j / m;
-        const double cs = std::cos(phi), sn = std::sin(phi);
-        const double dir[2] = {cs * va[0] - sn * va[1], sn * va[0] + cs * va[1]};
-        // intersect xi0 + l dir with A + t (B - A)
-        const double den = e0 * dir[1] - e1 * dir[0];
-        const double t = ((xi0[0] - A[0]) * dir[1] - (xi0[1] - A[1]) * dir[0]) / den;
-        next[0] = A[0] + t * e0;
-        next[1] = A[1] + t * e1;
-      }
-      append_triangle_rule(rule, q.singular_order, q.singular_order, xi0, prev, next);
-      prev[0] = next[0];
-      prev[1] = next[1];
-    }
+    append_polar_piece(xi0, A, B, q, 0, rule);
   }
 }
 
