@@ -21,9 +21,9 @@ struct MeshView {
 };
 
 struct QuadratureParams {
-  double tolerance = 1e-12;  // target relative error of each regular integral
+  double tolerance = 1e-8;   // target relative error of each regular integral
   int min_order = 2;         // Gauss points per direction, regular rule
-  int max_order = 8;         // above this, the element is subdivided instead
+  int max_order = 10;        // above this, the element is subdivided instead
   int singular_order = 12;   // radial and angular order of the polar rule
   double max_angle = 0.7854; // polar rule: largest angle of one sub-triangle (rad)
   int max_depth = 14;        // subdivision depth limit (nearly singular)

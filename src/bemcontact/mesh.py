@@ -51,6 +51,13 @@ REFERENCE_NODES: dict[str, np.ndarray] = {
         [[-1, -1], [1, -1], [1, 1], [-1, 1], [0, -1], [1, 0], [0, 1], [-1, 0], [0, 0]], float
     ),
 }
+_REVERSE: dict[str, list[int]] = {
+    "tri3": [0, 2, 1],
+    "tri6": [0, 2, 1, 5, 4, 3],
+    "quad4": [0, 3, 2, 1],
+    "quad8": [0, 3, 2, 1, 7, 6, 5, 4],
+    "quad9": [0, 3, 2, 1, 7, 6, 5, 4, 8],
+}
 CENTROIDS: dict[str, np.ndarray] = {
     t: (np.array([1 / 3, 1 / 3]) if t.startswith("tri") else np.zeros(2)) for t in ELEMENT_TYPES
 }
@@ -365,14 +372,9 @@ class SurfaceMesh:
                 "nodes must be counter-clockwise seen from outside)"
             )
         comps = self.components()
-        vols = [self.signed_volume(c) for c in comps]
-        for i, (c, v) in enumerate(zip(comps, vols)):
-            # depth = number of other shells enclosing this one
-            p = self.nodes[self.elements[c[0], 0]]
-            depth = 0
-            for j, d in enumerate(comps):
-                if j != i and abs(self.winding_number(p, d)[0]) > 0.5:
-                    depth += 1
+        depths = self._shell_depths(comps)
+        for c, depth in zip(comps, depths):
+            v = self.signed_volume(c)
             want_positive = depth % 2 == 0
             if (v > 0) != want_positive:
                 what = "outer surface" if want_positive else "cavity surface"
@@ -380,9 +382,44 @@ class SurfaceMesh:
                 raise MeshError(
                     f"{where}inverted orientation: the {what} made of regions {regions} has "
                     f"normals pointing {'in' if want_positive else 'out'}to the solid (signed "
-                    f"volume {v:.6g}); reverse its elements' node order"
+                    f"volume {v:.6g}); reverse its elements' node order (SurfaceMesh.oriented() "
+                    "does this for whole shells)"
                 )
         return self
+
+    def _shell_depths(self, comps: list[np.ndarray]) -> list[int]:
+        """Number of other shells enclosing each shell (0: outer surface)."""
+        depths = []
+        for i, c in enumerate(comps):
+            p = self.nodes[self.elements[c[0], 0]]
+            depth = 0
+            for j, d in enumerate(comps):
+                if j != i and abs(self.winding_number(p, d)[0]) > 0.5:
+                    depth += 1
+            depths.append(depth)
+        return depths
+
+    def reversed(self, elements: np.ndarray | None = None) -> SurfaceMesh:
+        """A copy with the node order (and so the normal) of ``elements``
+        (default: all) reversed."""
+        perm = _REVERSE[self.element_type]
+        E = self.elements.copy()
+        sel = np.arange(self.n_elements) if elements is None else np.asarray(elements)
+        E[sel] = E[sel][:, perm]
+        return SurfaceMesh(self.nodes, E, self.element_type, self.regions, source=self.source)
+
+    def oriented(self) -> SurfaceMesh:
+        """A copy in which every shell (connected component) whose normals point
+        into the solid is reversed: outer shells outward, cavity shells toward
+        the cavity.  Each shell must already be consistently oriented (as
+        gmsh writes them); the result passes :meth:`check` if the surface is
+        closed."""
+        comps = self.components()
+        depths = self._shell_depths(comps)
+        flip = [c for c, dep in zip(comps, depths) if (self.signed_volume(c) > 0) != (dep % 2 == 0)]
+        if not flip:
+            return self
+        return self.reversed(np.concatenate(flip))
 
     # ------------------------------------------------------------- conversions
     def to_meshio(self):

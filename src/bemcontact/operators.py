@@ -63,9 +63,9 @@ class QuadratureOptions:
         Subdivision depth limit for nearly singular integrals.
     """
 
-    tolerance: float = 1e-12
+    tolerance: float = 1e-8
     min_order: int = 2
-    max_order: int = 8
+    max_order: int = 10
     singular_order: int = 12
     max_angle: float = math.pi / 4
     max_depth: int = 14
