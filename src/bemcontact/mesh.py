@@ -584,10 +584,16 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     p = os.fspath(path)
     if not os.path.exists(p):
         raise MeshError(f"{p}: no such file")
+    import contextlib
+    import io
+
+    captured = io.StringIO()
     try:
-        m = meshio.read(p)
-    except Exception as exc:  # meshio raises many types for unreadable files
-        raise MeshError(f"{p}: cannot read mesh: {type(exc).__name__}: {exc}") from None
+        with contextlib.redirect_stderr(captured), contextlib.redirect_stdout(captured):
+            m = meshio.read(p)
+    except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
+        detail = " ".join(captured.getvalue().split()) or f"{type(exc).__name__}: {exc}"
+        raise MeshError(f"{p}: cannot read mesh: {detail}") from None
     blocks = [(i, MESHIO_TYPES[b.type]) for i, b in enumerate(m.cells) if b.type in MESHIO_TYPES]
     found = sorted({b.type for b in m.cells})
     if not blocks:

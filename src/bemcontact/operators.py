@@ -303,4 +303,30 @@ __all__ = [
     "Discretization",
     "discretize",
     "assemble_influence",
+    "element_influence",
 ]
+
+
+def element_influence(
+    disc: Discretization,
+    element: int,
+    point,
+    shear_modulus: float,
+    poisson_ratio: float,
+    local: int = -1,
+    quadrature: QuadratureOptions | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Influence (H_e, G_e), each (3, 3k), of one element on one point: column
+    3 j + c is component c of the element's j-th functional node.  ``local``
+    >= 0 says the point is that functional node of the element (polar
+    singular rule; the H column block of that node is then left zero, as the
+    assembly fills it from rigid-body translation).  Exposed for tests and
+    diagnostics; :func:`assemble_influence` does all elements at once."""
+    q = (quadrature or QuadratureOptions()).to_core()
+    if not 0 <= int(element) < disc.mesh.n_elements:
+        raise ConfigError(f"element {element!r} out of range 0..{disc.mesh.n_elements - 1}")
+    x = np.ascontiguousarray(np.asarray(point, dtype=float).reshape(1, 3))
+    return _core().element_influence(
+        *disc.core_arrays(), int(element), x, int(local), float(shear_modulus),
+        float(poisson_ratio), q,
+    )

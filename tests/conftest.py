@@ -1,0 +1,17 @@
+"""Shared test helpers."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def weighted_relative_error(approx, exact, weights):
+    """Discrete L2 relative error sqrt(Σ w |a - e|^2 / Σ w |e|^2) over nodes."""
+    approx, exact = np.asarray(approx), np.asarray(exact)
+    w = np.asarray(weights)[:, None]
+    return float(np.sqrt((w * (approx - exact) ** 2).sum() / (w * exact**2).sum()))
+
+
+def fitted_rate(h, err):
+    """Slope of log(err) against log(h) (least squares over all points)."""
+    return float(np.polyfit(np.log(h), np.log(err), 1)[0])
