@@ -191,23 +191,34 @@ inline const double (*corner_coords(int t))[2] {
 // singularity in the Duffy angular parameter lies at least about one piece
 // length away, and Gauss converges geometrically (same order as the regular
 // rule).  Equal-angle splitting alone leaves grazing pieces badly resolved.
-void append_polar_piece(const double* xi0, const double* P, const double* Q,
-                        const QuadratureParams& q, int depth, Rule2D& rule) {
-  const double vp[2] = {P[0] - xi0[0], P[1] - xi0[1]};
-  const double vq[2] = {Q[0] - xi0[0], Q[1] - xi0[1]};
-  const double e0 = Q[0] - P[0], e1 = Q[1] - P[1];
-  const double len = std::sqrt(e0 * e0 + e1 * e1);
-  const double ang = std::fabs(std::atan2(vp[0] * vq[1] - vp[1] * vq[0],
-                                          vp[0] * vq[0] + vp[1] * vq[1]));
-  // distance from xi0 to the segment PQ
-  double t = -(vp[0] * e0 + vp[1] * e1) / (len * len);
+void append_polar_piece(const Element& el, const double* xi0, const double* x0,
+                        const double* P, const double* Q, const QuadratureParams& q, int depth,
+                        Rule2D& rule) {
+  // criteria in physical space (the map may be far from affine): the angle
+  // the piece subtends at x0, its chord length, and its distance to x0
+  const SurfacePoint sp = map_point(el.type, el.X, P[0], P[1]);
+  const SurfacePoint sq = map_point(el.type, el.X, Q[0], Q[1]);
+  double vp[3], vq[3], e[3];
+  for (int d = 0; d < 3; ++d) {
+    vp[d] = sp.x[d] - x0[d];
+    vq[d] = sq.x[d] - x0[d];
+    e[d] = sq.x[d] - sp.x[d];
+  }
+  const double len2 = e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+  const double len = std::sqrt(len2);
+  const double c[3] = {vp[1] * vq[2] - vp[2] * vq[1], vp[2] * vq[0] - vp[0] * vq[2],
+                       vp[0] * vq[1] - vp[1] * vq[0]};
+  const double ang = std::atan2(std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]),
+                                vp[0] * vq[0] + vp[1] * vq[1] + vp[2] * vq[2]);
+  double t = -(vp[0] * e[0] + vp[1] * e[1] + vp[2] * e[2]) / len2;
   t = std::min(1.0, std::max(0.0, t));
-  const double f0 = vp[0] + t * e0, f1 = vp[1] + t * e1;
-  const double dseg = std::sqrt(f0 * f0 + f1 * f1);
+  double dseg = 0.0;
+  for (int d = 0; d < 3; ++d) dseg += (vp[d] + t * e[d]) * (vp[d] + t * e[d]);
+  dseg = std::sqrt(dseg);
   if (depth < 12 && (ang > q.max_angle || len > 0.5 * dseg)) {
     const double M[2] = {0.5 * (P[0] + Q[0]), 0.5 * (P[1] + Q[1])};
-    append_polar_piece(xi0, P, M, q, depth + 1, rule);
-    append_polar_piece(xi0, M, Q, q, depth + 1, rule);
+    append_polar_piece(el, xi0, x0, P, M, q, depth + 1, rule);
+    append_polar_piece(el, xi0, x0, M, Q, q, depth + 1, rule);
     return;
   }
   append_triangle_rule(rule, q.singular_order, q.singular_order, xi0, P, Q);
@@ -217,6 +228,7 @@ void singular_rule(const Element& e, const double* xi0, const QuadratureParams& 
                    Rule2D& rule) {
   const int nc = n_corners(e.type);
   const auto* c = corner_coords(e.type);
+  const SurfacePoint x0 = map_point(e.type, e.X, xi0[0], xi0[1]);
   for (int s = 0; s < nc; ++s) {
     const double* A = c[s];
     const double* B = c[(s + 1) % nc];
@@ -226,7 +238,7 @@ void singular_rule(const Element& e, const double* xi0, const QuadratureParams& 
     const double len = std::sqrt(e0 * e0 + e1 * e1);
     const double cr = va[0] * vb[1] - va[1] * vb[0];
     if (std::fabs(cr) / len <= 1e-13) continue;  // xi0 on this side
-    append_polar_piece(xi0, A, B, q, 0, rule);
+    append_polar_piece(e, xi0, x0.x, A, B, q, 0, rule);
   }
 }
 
