@@ -11,7 +11,7 @@ from __future__ import annotations
 import bemcontact as bc
 
 
-def run(divisions: int = 4, element_type: str = "quad4") -> dict[str, float]:
+def run(divisions: int = 2, element_type: str = "quad4") -> dict[str, float]:
     E, nu, L, delta = 1.0e4, 0.3, 2.0, 0.02
     mesh = bc.box((0, 0, 0), (L, L, L), divisions, element_type)
     body = bc.ElasticBody(
