@@ -58,7 +58,7 @@ def test_meshio_roundtrip_keeps_regions(tmp_path):
 
 
 def test_read_gmsh_physical_groups(tmp_path):
-    gmsh = pytest.importorskip("gmsh")
+    import gmsh  # a test dependency (pyproject [test])
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
