@@ -297,14 +297,6 @@ def assemble_influence(
     return H, G
 
 
-__all__ = [
-    "QuadratureOptions",
-    "DiscretizationOptions",
-    "Discretization",
-    "discretize",
-    "assemble_influence",
-    "element_influence",
-]
 
 
 def element_influence(
@@ -330,3 +322,13 @@ def element_influence(
         *disc.core_arrays(), int(element), x, int(local), float(shear_modulus),
         float(poisson_ratio), q,
     )
+
+
+__all__ = [
+    "QuadratureOptions",
+    "DiscretizationOptions",
+    "Discretization",
+    "discretize",
+    "assemble_influence",
+    "element_influence",
+]
