@@ -92,7 +92,7 @@ NB_MODULE(_core, mod) {
          int64_t element, CDouble2 x, int local, double shear_modulus, double nu,
          const QuadratureParams& q) {
         const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
-        const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, 8), 1);
+        const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), 1);
         const Element& e = els.at(static_cast<size_t>(element));
         const Kelvin K(shear_modulus, nu);
         const size_t ld = 3 * e.n;

@@ -335,7 +335,7 @@ void element_influence(const Element& e, const double* x, int local, const Kelvi
 void assemble_influence(const MeshView& m, const double* points, int64_t n_points,
                         double shear_modulus, double nu, const QuadratureParams& q,
                         int threads, double* H, double* G) {
-  const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, 8), threads);
+  const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
   const Kelvin K(shear_modulus, nu);
   const int64_t ncol = 3 * n_points;
 #pragma omp parallel num_threads(threads)

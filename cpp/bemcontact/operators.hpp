@@ -20,6 +20,11 @@ struct MeshView {
   int64_t n_elements = 0;
 };
 
+// Regular rules of orders 1..kMaxCachedOrder are precomputed per element
+// (points, normals, weights x Jacobian, basis values); higher orders are
+// evaluated on the fly.
+constexpr int kMaxCachedOrder = 8;
+
 struct QuadratureParams {
   double tolerance = 1e-8;   // target relative error of each regular integral
   int min_order = 2;         // Gauss points per direction, regular rule

@@ -13,6 +13,8 @@ Conventions (see ``docs/theory.md``):
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 import os
 from collections.abc import Iterable, Mapping, Sequence
@@ -371,12 +373,9 @@ class SurfaceMesh:
                 f"{uniq[j].tolist()} in the same direction (one of them is inverted; corner "
                 "nodes must be counter-clockwise seen from outside)"
             )
-        comps = self.components()
-        depths = self._shell_depths(comps)
-        for c, depth in zip(comps, depths):
-            v = self.signed_volume(c)
+        for c, depth, v, inverted in self._shells():
             want_positive = depth % 2 == 0
-            if (v > 0) != want_positive:
+            if inverted:
                 what = "outer surface" if want_positive else "cavity surface"
                 regions = sorted({self.region_names[r] for r in self.element_region[c]})
                 raise MeshError(
@@ -387,17 +386,22 @@ class SurfaceMesh:
                 )
         return self
 
-    def _shell_depths(self, comps: list[np.ndarray]) -> list[int]:
-        """Number of other shells enclosing each shell (0: outer surface)."""
-        depths = []
+    def _shells(self) -> list[tuple[np.ndarray, int, float, bool]]:
+        """Per shell (connected component): its elements, its depth (number of
+        other shells enclosing it; 0 = outer surface), its signed volume, and
+        whether its normals point into the solid (outer shells must enclose
+        positive volume, cavities negative)."""
+        comps = self.components()
+        out = []
         for i, c in enumerate(comps):
             p = self.nodes[self.elements[c[0], 0]]
-            depth = 0
-            for j, d in enumerate(comps):
-                if j != i and abs(self.winding_number(p, d)[0]) > 0.5:
-                    depth += 1
-            depths.append(depth)
-        return depths
+            depth = sum(
+                1 for j, d in enumerate(comps)
+                if j != i and abs(self.winding_number(p, d)[0]) > 0.5
+            )
+            v = self.signed_volume(c)
+            out.append((c, depth, v, (v > 0) != (depth % 2 == 0)))
+        return out
 
     def reversed(self, elements: np.ndarray | None = None) -> SurfaceMesh:
         """A copy with the node order (and so the normal) of ``elements``
@@ -414,9 +418,7 @@ class SurfaceMesh:
         the cavity.  Each shell must already be consistently oriented (as
         gmsh writes them); the result passes :meth:`check` if the surface is
         closed."""
-        comps = self.components()
-        depths = self._shell_depths(comps)
-        flip = [c for c, dep in zip(comps, depths) if (self.signed_volume(c) > 0) != (dep % 2 == 0)]
+        flip = [c for c, _, _, inverted in self._shells() if inverted]
         if not flip:
             return self
         return self.reversed(np.concatenate(flip))
@@ -584,9 +586,6 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     p = os.fspath(path)
     if not os.path.exists(p):
         raise MeshError(f"{p}: no such file")
-    import contextlib
-    import io
-
     captured = io.StringIO()
     try:
         with contextlib.redirect_stderr(captured), contextlib.redirect_stdout(captured):

@@ -297,8 +297,6 @@ def assemble_influence(
     return H, G
 
 
-
-
 def element_influence(
     disc: Discretization,
     element: int,
