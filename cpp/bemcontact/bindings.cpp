@@ -182,6 +182,33 @@ NB_MODULE(_core, mod) {
       "values (E x Q x 9) with order x order points per element.");
 
   mod.def(
+      "eval_basis",
+      [](CInt32_1 etype, CDouble3 nodes_xi, CDouble2 xi) {
+        // Lagrange basis through the given local nodes (one node set per point).
+        const size_t np = etype.shape(0);
+        double* N = new double[np * kMaxNodes]();
+        double* Nx = new double[np * kMaxNodes]();
+        double* Ny = new double[np * kMaxNodes]();
+        for (size_t p = 0; p < np; ++p) {
+          const int t = etype.data()[p];
+          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
+          for (int k = 0; k < nodes_per_element(t); ++k) {
+            xf[k][0] = nodes_xi.data()[(p * kMaxNodes + k) * 2];
+            xf[k][1] = nodes_xi.data()[(p * kMaxNodes + k) * 2 + 1];
+          }
+          lagrange_coefficients(t, xf, cf);
+          eval_basis(t, cf, xi.data()[2 * p], xi.data()[2 * p + 1], N + kMaxNodes * p,
+                     Nx + kMaxNodes * p, Ny + kMaxNodes * p);
+        }
+        return nb::make_tuple(owned(N, {np, (size_t)kMaxNodes}),
+                              owned(Nx, {np, (size_t)kMaxNodes}),
+                              owned(Ny, {np, (size_t)kMaxNodes}));
+      },
+      nb::arg("etype"), nb::arg("nodes_xi"), nb::arg("xi"),
+      "Values and local derivatives (P x 9 each, zero padded) of the Lagrange basis of element "
+      "type etype[p] through the local nodes nodes_xi[p] (P x 9 x 2) at the local point xi[p].");
+
+  mod.def(
       "basis_conditioning",
       [](CInt32_1 etype, CDouble3 fxi) {
         const size_t ne = etype.shape(0);
