@@ -1,0 +1,502 @@
+"""The contact frame: an independent surface between the two contact
+surfaces, its local bases, and the coupling of each body's interface nodes to
+it (founding paper, eqs. 10-16; design notes, formulation.md §2-3).
+
+Frame discretization (the rule, see docs/frame.md for the comparison)
+--------------------------------------------------------------------
+* Geometry: the frame is laid on the *coarser* of the two contact surfaces
+  (larger mean element area; ties broken by the node count, then by the
+  geometry itself, never by which body is called "1"), so swapping the bodies
+  gives the same frame.
+* Interpolation: continuous, *linear* (P1 on triangles, Q1 on quadrilaterals)
+  on the corner nodes of those elements, whatever the bodies' element order:
+  nonnegative basis functions, so nodal weights ∫N_j > 0 and a nodal
+  complementarity condition means something, and constants are represented,
+  which is all the patch test needs.
+* Unknowns per frame node j: the contact traction lam_j acting on body 2
+  (body 1 receives -lam_j) and the relative displacement k_j of body 2 with
+  respect to body 1, both in the node's local basis Q_j = [t1 t2 n], n from
+  body 1 into body 2.
+* Coupling (rule ``"mortar"``): the localized multipliers of body a are its
+  nodal contact forces f_a = M_a t_a (energy-consistent lumping, eqs. 15-16,
+  M_a = ∫ phi_p phi_q).  They are tied to the frame by the area-consistent
+  matrices D_a[p, j] = ∫ phi_p N_j dS, integrated exactly over the
+  intersections of body elements and frame elements (polygon clipping in the
+  frame element's plane):
+
+      f_2 = D_2 Q lam,   f_1 = -D_1 Q lam                 (frame equilibrium)
+      a_j k_j = Q_j^T [D_2^T x_2 - D_1^T x_1]_j           (weighted gap / slip)
+
+  with a_j = ∫ N_j dS over the common area.  Because sum_p phi_p = 1,
+  sum_p D_1[p, j] = sum_q D_2[q, j] = a_j for *any* pair of meshes, which is
+  the frame-equilibrium condition (*) of formulation.md §3: the contact patch
+  test is passed to quadrature precision on arbitrary non-matching meshes.
+* Rule ``"collocation"`` (the paper's point evaluation, kept for comparison):
+  D_a[p, j] = w_p N_j(xi_p), with xi_p the projection of body node p on the
+  frame and w_p = ∫ phi_p.  Condition (*) then fails on non-matching meshes,
+  and so does the patch test.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ConfigError
+from .mesh import CORNERS, REFERENCE_NODES
+from .operators import Discretization
+
+_LINEAR = {"tri": ("tri3", 0), "quad": ("quad4", 2)}
+_TYPE_CODE = {"tri3": 0, "tri6": 1, "quad4": 2, "quad8": 3, "quad9": 4}
+
+
+def _core():
+    from . import _core
+
+    return _core
+
+
+# --------------------------------------------------------------------------- geometry
+
+
+def _basis(etype: str, nodes_xi: np.ndarray, xi: np.ndarray):
+    """Lagrange basis (values, d/dxi, d/deta), each (P, 9), of element type
+    ``etype`` through local nodes ``nodes_xi`` (P, k, 2) at ``xi`` (P, 2)."""
+    P = xi.shape[0]
+    nx = np.zeros((P, 9, 2))
+    nx[:, : nodes_xi.shape[1]] = nodes_xi
+    t = np.full(P, _TYPE_CODE[etype], dtype=np.int32)
+    return _core().eval_basis(t, nx, np.ascontiguousarray(xi, dtype=float))
+
+
+def _geometry(disc: Discretization, elements: np.ndarray, xi: np.ndarray):
+    """x, dx/dxi, dx/deta (each (P, 3)) of the mesh map."""
+    mesh = disc.mesh
+    k = mesh.elements.shape[1]
+    ref = np.broadcast_to(REFERENCE_NODES[mesh.element_type], (xi.shape[0], k, 2))
+    N, Nx, Ny = _basis(mesh.element_type, ref, xi)
+    X = mesh.nodes[mesh.elements[elements]]  # (P, k, 3)
+    return (
+        np.einsum("pk,pkd->pd", N[:, :k], X),
+        np.einsum("pk,pkd->pd", Nx[:, :k], X),
+        np.einsum("pk,pkd->pd", Ny[:, :k], X),
+    )
+
+
+def _functional_basis(disc: Discretization, elements: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """(P, k) functional basis of ``elements`` at ``xi``."""
+    k = disc.mesh.elements.shape[1]
+    N, _, _ = _basis(disc.mesh.element_type, disc.fxi[elements, :k], xi)
+    return N[:, :k]
+
+
+def _inside(etype: str, xi: np.ndarray, tol: float) -> np.ndarray:
+    if etype.startswith("tri"):
+        return (xi[:, 0] >= -tol) & (xi[:, 1] >= -tol) & (xi.sum(axis=1) <= 1 + tol)
+    return (np.abs(xi) <= 1 + tol).all(axis=1)
+
+
+def _inverse_map(
+    disc: Discretization, elements: np.ndarray, z: np.ndarray, T: np.ndarray, iters: int = 30
+) -> np.ndarray:
+    """Local coordinates xi (P, 2) with T^T (x(xi) - z) = 0: the point of
+    element ``elements[p]`` whose orthogonal projection on the plane spanned
+    by T[p] (P, 3, 2) is the projection of z[p]."""
+    etype = disc.mesh.element_type
+    xi = np.tile(np.array([1 / 3, 1 / 3]) if etype.startswith("tri") else np.zeros(2), (len(z), 1))
+    for _ in range(iters):
+        x, a, b = _geometry(disc, elements, xi)
+        r = np.einsum("pdi,pd->pi", T, x - z)
+        J = np.stack([np.einsum("pdi,pd->pi", T, a), np.einsum("pdi,pd->pi", T, b)], axis=2)
+        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+        dxi = np.stack(
+            [
+                (J[:, 1, 1] * r[:, 0] - J[:, 0, 1] * r[:, 1]) / det,
+                (-J[:, 1, 0] * r[:, 0] + J[:, 0, 0] * r[:, 1]) / det,
+            ],
+            axis=1,
+        )
+        xi = xi - dxi
+        if np.abs(dxi).max(initial=0.0) < 1e-15:
+            break
+    return xi
+
+
+def _tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal t1, t2 with (t1, t2, n) right-handed.  t1 is the global
+    axis least aligned with n, made orthogonal to n (a deterministic choice:
+    reversing n keeps t1 and reverses t2)."""
+    axis = np.argmin(np.abs(n), axis=1)
+    e = np.zeros_like(n)
+    e[np.arange(len(n)), axis] = 1.0
+    t1 = e - np.einsum("ij,ij->i", e, n)[:, None] * n
+    t1 /= np.linalg.norm(t1, axis=1)[:, None]
+    t2 = np.cross(n, t1)
+    return t1, t2
+
+
+def _clip(subject: np.ndarray, clip: np.ndarray) -> np.ndarray:
+    """Sutherland-Hodgman: intersection of polygon ``subject`` with the convex
+    counter-clockwise polygon ``clip`` (both (k, 2))."""
+    out = subject
+    n = len(clip)
+    for i in range(n):
+        if len(out) == 0:
+            break
+        a, b = clip[i], clip[(i + 1) % n]
+        e = b - a
+        s = e[0] * (out[:, 1] - a[1]) - e[1] * (out[:, 0] - a[0])  # > 0 inside (left)
+        nxt = np.roll(out, -1, axis=0)
+        sn = np.roll(s, -1)
+        pts = []
+        for j in range(len(out)):
+            if s[j] >= 0:
+                pts.append(out[j])
+            if (s[j] >= 0) != (sn[j] >= 0):
+                t = s[j] / (s[j] - sn[j])
+                pts.append(out[j] + t * (nxt[j] - out[j]))
+        out = np.array(pts).reshape(-1, 2)
+    return out
+
+
+def _triangle_rule(order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Collapsed Gauss rule on the unit triangle: (points (q, 2), weights),
+    exact for polynomials of degree 2 order - 2."""
+    g, w = np.polynomial.legendre.leggauss(order)
+    g = 0.5 * (g + 1)
+    w = 0.5 * w
+    u, v = np.meshgrid(g, g, indexing="ij")
+    wu, wv = np.meshgrid(w, w, indexing="ij")
+    pts = np.stack([u.ravel(), (v * (1 - u)).ravel()], axis=1)
+    return pts, (wu * wv * (1 - u)).ravel()
+
+
+# --------------------------------------------------------------------------- frame
+
+
+@dataclass
+class _Surface:
+    disc: Discretization
+    elements: np.ndarray  # contact elements
+    nodes: np.ndarray  # contact functional nodes (sorted)
+    local: np.ndarray  # functional node -> row in nodes (or -1)
+
+
+def _surface(disc: Discretization, region: str, who: str) -> _Surface:
+    mesh = disc.mesh
+    if region not in mesh.region_names:
+        raise ConfigError(
+            f"{who}: unknown contact surface {region!r}; the mesh has regions "
+            f"{list(mesh.region_names)}"
+        )
+    rid = mesh.region_names.index(region)
+    elements = np.flatnonzero(mesh.element_region == rid)
+    nodes = np.flatnonzero(disc.region == rid)
+    local = np.full(disc.n_points, -1, dtype=np.int64)
+    local[nodes] = np.arange(nodes.size)
+    return _Surface(disc, elements, nodes, local)
+
+
+class ContactFrame:
+    """The contact frame of a pair of contact surfaces and the coupling
+    matrices of both bodies (see the module docstring for the rule).
+
+    Attributes (m frame nodes, n_a contact nodes of body a)
+    ----------
+    owner: 0 or 1, the body whose contact surface carries the frame.
+    points: (m, 3) frame node positions.  Q: (m, 3, 3) local bases, columns
+    (t1, t2, n), n from body 1 into body 2.  weights: (m,) a_j = ∫ N_j over
+    the common area.  size: (m,) h_j = sqrt(a_j).
+    nodes: (n_1,), (n_2,) the contact functional nodes of each body.
+    D: (n_1, m), (n_2, m) coupling matrices.  M: (n_1, n_1), (n_2, n_2)
+    consistent interface mass matrices.
+    projection: per body, (element of the frame-owner surface, xi) of each
+    contact node's projection on the frame (xi_p), and whether it falls on
+    the frame.
+    """
+
+    def __init__(
+        self,
+        disc1: Discretization,
+        surface1: str,
+        disc2: Discretization,
+        surface2: str,
+        rule: str = "mortar",
+        *,
+        names: tuple[str, str] = ("body 1", "body 2"),
+        quadrature_order: int = 6,
+    ) -> None:
+        if rule not in ("mortar", "collocation"):
+            raise ConfigError(f"frame rule must be 'mortar' or 'collocation', got {rule!r}")
+        self.rule = rule
+        self.names = names
+        s = (_surface(disc1, surface1, names[0]), _surface(disc2, surface2, names[1]))
+        for a in range(2):
+            if s[a].elements.size == 0:
+                raise ConfigError(f"{names[a]}: contact surface is empty")
+        self._s = s
+        self.owner = self._choose_owner()
+        self._build_frame_nodes()
+        self._integrate(quadrature_order)
+        self._project_nodes()
+        if rule == "collocation":
+            self._collocation_coupling()
+
+    # ---------------------------------------------------------------- choices
+    def _choose_owner(self) -> int:
+        keys = []
+        for sf in self._s:
+            mesh = sf.disc.mesh
+            area = float(mesh.surface_quadrature(4, sf.elements).weights.sum())
+            keys.append((area / sf.elements.size, -sf.nodes.size))
+        if not np.isclose(keys[0][0], keys[1][0], rtol=1e-9):
+            return 0 if keys[0][0] > keys[1][0] else 1
+        if keys[0][1] != keys[1][1]:
+            return 0 if keys[0][1] > keys[1][1] else 1
+        # same size and count: order by the node coordinates (label independent)
+        a = np.sort(self._s[0].disc.points[self._s[0].nodes].round(12), axis=None)
+        b = np.sort(self._s[1].disc.points[self._s[1].nodes].round(12), axis=None)
+        diff = np.flatnonzero(a != b)
+        return 0 if diff.size == 0 or a[diff[0]] < b[diff[0]] else 1
+
+    def _build_frame_nodes(self) -> None:
+        sf = self._s[self.owner]
+        mesh = sf.disc.mesh
+        nc = CORNERS[mesh.element_type]
+        corners = mesh.elements[sf.elements, :nc]
+        geo, inv = np.unique(corners, return_inverse=True)
+        self._fconn = inv.reshape(corners.shape)  # (m_e, nc) frame node ids
+        self._linear = _LINEAR["tri" if mesh.element_type.startswith("tri") else "quad"][0]
+        self._ref = REFERENCE_NODES[self._linear]
+        m = geo.size
+        self.points = mesh.nodes[geo].copy()
+        # normals at frame nodes: average of the owner's element normals at its corners
+        e_idx = np.repeat(sf.elements, nc)
+        _, n_at, _ = mesh.map(e_idx, np.tile(REFERENCE_NODES[mesh.element_type][:nc], (len(sf.elements), 1)))
+        acc = np.zeros((m, 3))
+        np.add.at(acc, self._fconn.ravel(), n_at)
+        n = acc / np.linalg.norm(acc, axis=1)[:, None]
+        if self.owner == 1:
+            n = -n  # frame normal points from body 1 into body 2
+        t1, t2 = _tangent_basis(n)
+        self.Q = np.stack([t1, t2, n], axis=2)
+        self.n_frame = m
+
+    # ------------------------------------------------------------- integrals
+    def _integrate(self, order: int) -> None:
+        own, oth = self._s[self.owner], self._s[1 - self.owner]
+        do, dt = own.disc, oth.disc
+        mo, mt = do.mesh, dt.mesh
+        nco, nct = CORNERS[mo.element_type], CORNERS[mt.element_type]
+        Eo, Et = own.elements, oth.elements
+        # element planes of the owner (frame) elements
+        cen_o = np.tile(np.array([1 / 3, 1 / 3]) if mo.element_type.startswith("tri") else np.zeros(2), (Eo.size, 1))
+        c_o, n_o, _ = mo.map(Eo, cen_o)
+        t1, t2 = _tangent_basis(n_o)
+        Co = mo.nodes[mo.elements[Eo, :nco]]  # (Eo, nco, 3)
+        Ct = mt.nodes[mt.elements[Et, :nct]]
+        # candidate pairs: bounding boxes, inflated by a fraction of the element size
+        lo_o, hi_o = Co.min(axis=1), Co.max(axis=1)
+        lo_t, hi_t = Ct.min(axis=1), Ct.max(axis=1)
+        size = max(float(np.max(hi_o - lo_o)), float(np.max(hi_t - lo_t)))
+        tol = 0.25 * size
+        hit = np.all(
+            (lo_o[:, None, :] - tol <= hi_t[None, :, :]) & (lo_t[None, :, :] - tol <= hi_o[:, None, :]),
+            axis=2,
+        )
+        rule_p, rule_w = _triangle_rule(order)
+        fo, ft, zs, ws = [], [], [], []
+        for i, j in zip(*np.nonzero(hit)):
+            T = np.stack([t1[i], t2[i]], axis=1)  # (3, 2)
+            A = (Co[i] - c_o[i]) @ T
+            B = (Ct[j] - c_o[i]) @ T
+            # both counter-clockwise in the plane seen from the owner's normal side
+            if _signed_area(A) < 0:
+                A = A[::-1]
+            if _signed_area(B) < 0:
+                B = B[::-1]
+            # skip elements facing away or far off the plane
+            nt = np.cross(Ct[j][1] - Ct[j][0], Ct[j][2] - Ct[j][0])
+            nt /= np.linalg.norm(nt)
+            if abs(nt @ n_o[i]) < 0.5:
+                continue
+            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > tol:
+                continue
+            P = _clip(B, A)
+            if len(P) < 3:
+                continue
+            area = _signed_area(P)
+            if area <= 1e-14 * abs(_signed_area(A)):
+                continue
+            for k in range(1, len(P) - 1):
+                a, b, c = P[0], P[k], P[k + 1]
+                ar = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+                if ar <= 0:
+                    continue
+                q = a + rule_p[:, :1] * (b - a) + rule_p[:, 1:] * (c - a)
+                zs.append(c_o[i] + q @ T.T)
+                ws.append(2 * ar * rule_w)
+                fo.append(np.full(len(q), i))
+                ft.append(np.full(len(q), j))
+        if not zs:
+            raise ConfigError(
+                f"contact surfaces of {self.names[0]} and {self.names[1]} do not overlap: no "
+                "element of one faces an element of the other; check the surface names and "
+                "the positions of the bodies"
+            )
+        fo = np.concatenate(fo)
+        ft = np.concatenate(ft)
+        z = np.concatenate(zs)
+        w = np.concatenate(ws)
+        T = np.stack([t1[fo], t2[fo]], axis=2)  # (P, 3, 2)
+        xo = _inverse_map(do, Eo[fo], z, T)
+        xt = _inverse_map(dt, Et[ft], z, T)
+        # surface measure of the owner surface over the plane
+        _, a, b = _geometry(do, Eo[fo], xo)
+        cr = np.cross(a, b)
+        pa = np.einsum("pdi,pd->pi", T, a)
+        pb = np.einsum("pdi,pd->pi", T, b)
+        w = w * np.linalg.norm(cr, axis=1) / np.abs(pa[:, 0] * pb[:, 1] - pa[:, 1] * pb[:, 0])
+        # bases
+        ko, kt = mo.elements.shape[1], mt.elements.shape[1]
+        phio = _functional_basis(do, Eo[fo], xo)
+        phit = _functional_basis(dt, Et[ft], xt)
+        Nf, _, _ = _basis(self._linear, np.broadcast_to(self._ref, (len(xo),) + self._ref.shape), xo)
+        Nf = Nf[:, : self._ref.shape[0]]
+        jf = self._fconn[fo]  # (P, nc)
+        m = self.n_frame
+        Do = np.zeros((own.nodes.size, m))
+        Dt = np.zeros((oth.nodes.size, m))
+        po = own.local[do.fconn[Eo[fo], :ko]]
+        pt = oth.local[dt.fconn[Et[ft], :kt]]
+        for c in range(jf.shape[1]):
+            wN = w * Nf[:, c]
+            np.add.at(Do, (po, jf[:, c : c + 1]), wN[:, None] * phio)
+            np.add.at(Dt, (pt, jf[:, c : c + 1]), wN[:, None] * phit)
+        self.weights = np.zeros(m)
+        np.add.at(self.weights, jf, w[:, None] * Nf)
+        self.common_area = float(w.sum())
+        self._quad = dict(owner_element=fo, other_element=ft, w=w, xo=xo, xt=xt)
+        D = [None, None]
+        D[self.owner], D[1 - self.owner] = Do, Dt
+        self.D = tuple(D)
+        # frame nodes the other body does not reach carry no unknowns
+        self.active = self.weights > 1e-12 * self.weights.max()
+        self.M = tuple(self._mass(sf) for sf in self._s)
+        self.size = np.sqrt(np.maximum(self.weights, 0.0))
+
+    @staticmethod
+    def _mass(sf: _Surface) -> np.ndarray:
+        d = sf.disc
+        k = d.mesh.elements.shape[1]
+        _, _, W, phi = d.surface_quadrature(6)
+        W, phi = W[sf.elements], phi[sf.elements, :, :k]
+        Me = np.einsum("eq,eqa,eqb->eab", W, phi, phi)
+        rows = sf.local[d.fconn[sf.elements, :k]]
+        M = np.zeros((sf.nodes.size, sf.nodes.size))
+        np.add.at(M, (rows[:, :, None], rows[:, None, :]), Me)
+        return M
+
+    # ------------------------------------------------------------ projection
+    def _project_nodes(self) -> None:
+        """xi_p: the frame element and local coordinates of every contact node
+        of both bodies (orthogonal projection on the frame element's plane)."""
+        own = self._s[self.owner]
+        self.projection = tuple(
+            _locate(own.disc, own.elements, sf.disc.points[sf.nodes]) for sf in self._s
+        )
+
+    def frame_basis_at(self, a: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(frame nodes (n_a, nc), values N_j(xi_p) (n_a, nc), on_frame (n_a,))
+        for the contact nodes of body a."""
+        el, xi, ok = self.projection[a]
+        own = self._s[self.owner]
+        pos = np.searchsorted(own.elements, el)
+        N, _, _ = _basis(self._linear, np.broadcast_to(self._ref, (len(xi),) + self._ref.shape), xi)
+        return self._fconn[pos], N[:, : self._ref.shape[0]], ok
+
+    def _collocation_coupling(self) -> None:
+        D = []
+        for a, sf in enumerate(self._s):
+            j, N, ok = self.frame_basis_at(a)
+            Da = np.zeros((sf.nodes.size, self.n_frame))
+            w = sf.disc.weights[sf.nodes] * ok
+            np.add.at(Da, (np.arange(sf.nodes.size)[:, None], j), w[:, None] * N)
+            D.append(Da)
+        self.D = tuple(D)
+
+    # -------------------------------------------------------------- accessors
+    def nodes(self, a: int) -> np.ndarray:
+        """Contact functional nodes of body a (indices into its solution)."""
+        return self._s[a].nodes
+
+    def surface_elements(self, a: int) -> np.ndarray:
+        return self._s[a].elements
+
+    def coupling_check(self) -> float:
+        """max_j |sum_p D_1[p, j] - sum_q D_2[q, j]| / a_j: condition (*) of
+        the patch test (0 to round-off for the mortar rule)."""
+        s1 = self.D[0].sum(axis=0)
+        s2 = self.D[1].sum(axis=0)
+        act = self.active
+        return float(np.max(np.abs(s1 - s2)[act] / self.weights[act]))
+
+
+def _signed_area(P: np.ndarray) -> float:
+    x, y = P[:, 0], P[:, 1]
+    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+
+
+def _locate(disc: Discretization, elements: np.ndarray, points: np.ndarray):
+    """For each point, the element of ``elements`` whose plane-projection
+    contains it (nearest along the normal when several do; the least-outside
+    one when none does): (element (P,), xi (P, 2), inside (P,) bool)."""
+    mesh = disc.mesh
+    nc = CORNERS[mesh.element_type]
+    C = mesh.nodes[mesh.elements[elements, :nc]]
+    lo, hi = C.min(axis=1), C.max(axis=1)
+    size = float(np.max(hi - lo))
+    tol = 0.25 * size
+    cand = np.all(
+        (lo[None] - tol <= points[:, None, :]) & (points[:, None, :] <= hi[None] + tol), axis=2
+    )
+    pi, ei = np.nonzero(cand)
+    P = len(points)
+    best_el = np.full(P, elements[0] if len(elements) else -1, dtype=np.int64)
+    best_xi = np.zeros((P, 2))
+    inside = np.zeros(P, dtype=bool)
+    if pi.size == 0:
+        return best_el, best_xi, inside
+    etype = mesh.element_type
+    cen = np.tile(np.array([1 / 3, 1 / 3]) if etype.startswith("tri") else np.zeros(2), (len(ei), 1))
+    _, n, _ = mesh.map(elements[ei], cen)
+    t1, t2 = _tangent_basis(n)
+    T = np.stack([t1, t2], axis=2)
+    xi = _inverse_map(disc, elements[ei], points[pi], T)
+    x, _, _ = _geometry(disc, elements[ei], xi)
+    dist = np.abs(np.einsum("pd,pd->p", points[pi] - x, n))
+    # outside-ness of the local coordinates
+    if etype.startswith("tri"):
+        out = np.maximum.reduce([-xi[:, 0], -xi[:, 1], xi.sum(axis=1) - 1, np.zeros(len(xi))])
+    else:
+        out = np.maximum(np.abs(xi).max(axis=1) - 1, 0.0)
+    key = np.where(out <= 1e-9, dist, 1e30 + out)
+    order = np.lexsort((key, pi))
+    first = np.ones(order.size, dtype=bool)
+    first[1:] = pi[order][1:] != pi[order][:-1]
+    sel = order[first]
+    best_el[pi[sel]] = elements[ei[sel]]
+    best_xi[pi[sel]] = xi[sel]
+    inside[pi[sel]] = out[sel] <= 1e-9
+    if etype.startswith("tri"):
+        best_xi = np.clip(best_xi, 0, 1)
+        s = best_xi.sum(axis=1)
+        best_xi[s > 1] /= s[s > 1, None]
+    else:
+        best_xi = np.clip(best_xi, -1, 1)
+    return best_el, best_xi, inside
+
+
+__all__ = ["ContactFrame"]

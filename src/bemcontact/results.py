@@ -1,0 +1,161 @@
+"""Results of a contact solve: per interface node of each body, per frame
+node, per region, and global.
+
+Conventions (docs/theory.md): global x, y, z components; pressure > 0
+compressive; gap > 0 open; tangential traction is the tangential part of the
+traction acting *on that body*; slip is the tangential displacement of that
+body relative to the other body at the same place (accumulated over the load
+steps); state codes 0 open, 1 stick, 2 slip (:data:`bemcontact.law.STATE_NAMES`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .body import BodySolution
+from .law import STATE_NAMES
+
+
+@dataclass
+class InterfaceResult:
+    """Fields at the n contact-surface functional nodes of one body.
+
+    Attributes
+    ----------
+    body: body name.  surface: its contact region.
+    nodes: (n,) functional node indices into the body's solution arrays.
+    points: (n, 3) positions (undeformed).  normals: (n, 3) outward unit normals.
+    displacement: (n, 3).  traction: (n, 3) traction on this body.
+    pressure: (n,) contact pressure, > 0 compressive.
+    tangential_traction: (n, 3).
+    gap: (n,) normal gap to the other body, > 0 open.
+    slip: (n, 3) tangential displacement relative to the other body.
+    state: (n,) int8, 0 open / 1 stick / 2 slip.
+    weights: (n,) ∫ phi dS of each node.
+    """
+
+    body: str
+    surface: str
+    nodes: np.ndarray
+    points: np.ndarray
+    normals: np.ndarray
+    displacement: np.ndarray
+    traction: np.ndarray
+    pressure: np.ndarray
+    tangential_traction: np.ndarray
+    gap: np.ndarray
+    slip: np.ndarray
+    state: np.ndarray
+    weights: np.ndarray
+
+    def counts(self) -> dict[str, int]:
+        """Number of nodes per state name."""
+        return {name: int(np.count_nonzero(self.state == i)) for i, name in enumerate(STATE_NAMES)}
+
+
+@dataclass
+class FrameResult:
+    """Fields at the m contact-frame nodes (the law's unknowns).
+
+    points, normals: (m, 3); the normal points from body 1 into body 2.
+    pressure: (m,) normal traction on body 2, > 0 compressive.
+    tangential_traction: (m, 3) tangential traction on body 2 (global).
+    gap: (m,) weighted normal gap, > 0 open.
+    slip: (m, 3) relative tangential displacement of body 2 w.r.t. body 1.
+    state: (m,) int8.  weights: (m,) ∫ N_j dS.
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    pressure: np.ndarray
+    tangential_traction: np.ndarray
+    gap: np.ndarray
+    slip: np.ndarray
+    state: np.ndarray
+    weights: np.ndarray
+
+    def counts(self) -> dict[str, int]:
+        return {name: int(np.count_nonzero(self.state == i)) for i, name in enumerate(STATE_NAMES)}
+
+
+@dataclass
+class StepRecord:
+    """One load step: its load factor, Newton iterations and the history of
+    the scaled residual norm max|Phi| / traction scale (one entry per
+    iterate, the first for the starting point)."""
+
+    load_factor: float
+    iterations: int
+    residual_history: list[float]
+    converged: bool
+    line_search_steps: list[float] = field(default_factory=list)
+
+
+@dataclass
+class ContactResult:
+    """Everything a contact solve produces.
+
+    Attributes
+    ----------
+    converged: every load step converged.
+    newton_iterations: total over the load steps.
+    steps: one :class:`StepRecord` per load step.
+    normal_force: N, > 0 compressive: normal force body 1 exerts on body 2.
+    tangential_force: N, magnitude of the tangential (friction) force on body 2.
+    contact_force: (3,) global force body 1 exerts on body 2 (N).
+    bodies: the two :class:`~bemcontact.body.BodySolution` (whole surfaces).
+    names: the two body names.
+    interfaces: the two :class:`InterfaceResult`.
+    frame: :class:`FrameResult`.
+    timings: seconds per stage (assembly, condensation, frame, newton, total).
+    """
+
+    converged: bool
+    newton_iterations: int
+    steps: list[StepRecord]
+    normal_force: float
+    tangential_force: float
+    contact_force: np.ndarray
+    bodies: tuple[BodySolution, BodySolution]
+    names: tuple[str, str]
+    interfaces: tuple[InterfaceResult, InterfaceResult]
+    frame: FrameResult
+    timings: dict[str, float] = field(default_factory=dict)
+
+    def reactions(self) -> dict[str, dict[str, np.ndarray]]:
+        """Body name -> region -> resultant force (3,) the surroundings
+        (supports, loads and the other body) exert on that region."""
+        return {n: b.reactions() for n, b in zip(self.names, self.bodies)}
+
+    def summary(self) -> dict:
+        """JSON-ready summary (the top level of ``summary.json``)."""
+        return {
+            "converged": bool(self.converged),
+            "newton_iterations": int(self.newton_iterations),
+            "normal_force": float(self.normal_force),
+            "tangential_force": float(self.tangential_force),
+            "contact_force": [float(c) for c in self.contact_force],
+            "load_steps": [
+                {
+                    "load_factor": s.load_factor,
+                    "iterations": s.iterations,
+                    "converged": s.converged,
+                    "residual_history": [float(r) for r in s.residual_history],
+                }
+                for s in self.steps
+            ],
+            "states": {
+                "frame": self.frame.counts(),
+                **{f"{i.body}": i.counts() for i in self.interfaces},
+            },
+            "reactions": {
+                b: {r: [float(c) for c in f] for r, f in regs.items()}
+                for b, regs in self.reactions().items()
+            },
+            "timings": {k: float(v) for k, v in self.timings.items()},
+        }
+
+
+__all__ = ["InterfaceResult", "FrameResult", "StepRecord", "ContactResult"]
