@@ -7,9 +7,12 @@ Conventions (units, signs, array shapes) are in docs/theory.md.
 from __future__ import annotations
 
 from .body import BodySolution, Displacement, ElasticBody, Fixed, Pressure, Traction
+from .frame import ContactFrame
 from .errors import BemcontactError, ConfigError, ConvergenceError, MaterialError, MeshError
 from .material import LinearElastic
 from .mesh import SurfaceMesh, box, read_mesh
+from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
+from .solver import ContactPair, ContactProblem, SolverOptions, condense
 from .operators import (
     Discretization,
     DiscretizationOptions,
@@ -42,4 +45,13 @@ __all__ = [
     "Traction",
     "Pressure",
     "Fixed",
+    "ContactFrame",
+    "ContactPair",
+    "ContactProblem",
+    "SolverOptions",
+    "condense",
+    "ContactResult",
+    "FrameResult",
+    "InterfaceResult",
+    "StepRecord",
 ]

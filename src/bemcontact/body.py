@@ -341,7 +341,9 @@ class ElasticBody:
             timings={"assembly": t1 - t0, "solve": t2 - t1},
         )
 
-    def _lu_solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    def _lu_factor(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """LU factors of A^T (LAPACK getrf, in place over A) with a
+        singularity check; solve with ``dgetrs(lu, piv, b, trans=1)``."""
         # A is C-contiguous: A.T is Fortran-contiguous, so LAPACK factors A^T in
         # place (no copy) and getrs solves with the transpose.
         At = A.T
@@ -356,6 +358,10 @@ class ElasticBody:
                 "the boundary conditions do not fix the body against rigid motion; prescribe "
                 "displacement components that stop translation and rotation"
             )
+        return lu, piv
+
+    def _lu_solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
+        lu, piv = self._lu_factor(A)
         x, info = scipy.linalg.lapack.dgetrs(lu, piv, b, trans=1)
         return x
 

@@ -1,15 +1,32 @@
 """Two-body frictional contact: the partitioned system and its generalized
 Newton solve (founding paper, eq. 17 and the GNMLS of Pang 1990).
 
-(implementation in progress)
+The partitioned solve: each body's BEM system is assembled, factored and
+condensed once onto its contact surface (:func:`condense`), so every Newton
+iteration works only with interface-sized dense matrices: the unknowns are
+the frame tractions lam (3 per frame node) and the amplitudes of any rigid
+modes the supports leave free.  Newton directions solve the generalized
+Jacobian system with the contact state frozen; the step length alpha is
+halved until Psi = 1/2 |Phi|^2 decreases by the factor (1 - 2 sigma alpha).
 """
 
 from __future__ import annotations
 
 import math
+import sys
+import time
 from dataclasses import dataclass
+from typing import Any
 
-from .errors import ConfigError
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+
+from . import law
+from .body import BodySolution, ElasticBody
+from .errors import ConfigError, ConvergenceError
+from .frame import ContactFrame, _functional_basis, _geometry, _locate
+from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
 
 
 @dataclass(frozen=True)
@@ -107,3 +124,473 @@ class SolverOptions:
             isinstance(self.threads, bool) or not isinstance(self.threads, int) or self.threads < 1
         ):
             raise ConfigError(f"SolverOptions.threads must be None or >= 1, got {self.threads!r}")
+
+
+# --------------------------------------------------------------------------- condensation
+
+
+@dataclass
+class CondensedBody:
+    """One body reduced to its contact surface (the partitioned step): for
+    contact tractions t_c (3 n_c, interleaved xyz per node) and load factor f,
+
+        x = f x0 + X t_c + Rf alpha,    u_c = f u0_c + F t_c + Rc alpha
+
+    where x is the BEM unknown vector (displacement at traction-given dofs,
+    traction at displacement-given dofs), Rf the rigid modes the supports
+    leave free (floating bodies; alpha their amplitudes, fixed by the body's
+    equilibrium), F = X[contact dofs] the interface flexibility.
+    """
+
+    body: Any
+    nodes: np.ndarray
+    dofs: np.ndarray
+    known_u: np.ndarray
+    values: np.ndarray
+    x0: np.ndarray
+    X: np.ndarray
+    Rf: np.ndarray
+    known_modal_force: np.ndarray  # (nf,) ∫ Rf . t_known dS at load factor 1
+    timings: dict
+
+    @property
+    def F(self) -> np.ndarray:
+        return self.X[self.dofs]
+
+    @property
+    def u0(self) -> np.ndarray:
+        return self.x0[self.dofs]
+
+    @property
+    def Rc(self) -> np.ndarray:
+        return self.Rf[self.dofs]
+
+
+def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -> CondensedBody:
+    """Assemble the body's BEM system once, factor it, and solve for the
+    response to unit tractions at each contact dof (``nodes``: the contact
+    functional nodes, which must carry no boundary condition)."""
+    d = body.discretization
+    t0 = time.perf_counter()
+    known_u, values = body.boundary_data()
+    dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
+    if known_u[dofs].any() or np.any(values[dofs] != 0):
+        raise ConfigError(
+            f"{body.name}: the contact surface also has a boundary condition; remove it "
+            "(the contact decides the tractions there)"
+        )
+    H, G = body.assemble(threads)
+    t1 = time.perf_counter()
+    ku = np.flatnonzero(known_u)
+    kt = np.flatnonzero(~known_u)
+    Gc = G[:, dofs].copy()
+    b0 = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
+    A = H
+    A[:, ku] = -G[:, ku]
+    del G
+    # rigid modes the supports leave free
+    R = body.rigid_modes()
+    Rn = R / np.linalg.norm(R, axis=0)
+    if ku.size:
+        Z = scipy.linalg.null_space(Rn[ku], rcond=1e-9)
+    else:
+        Z = np.eye(6)
+    Rf = Rn @ Z
+    nf = Rf.shape[1]
+    n = A.shape[0]
+    if nf:
+        w3 = np.repeat(d.weights, 3)
+        Ab = np.zeros((n + nf, n + nf))
+        Ab[:n, :n] = A
+        Ab[:n, n:] = Rf
+        Ab[n:, :n] = (Rf * w3[:, None]).T
+        A = Ab
+        b0 = np.concatenate([b0, np.zeros(nf)])
+        Gc = np.vstack([Gc, np.zeros((nf, Gc.shape[1]))])
+    del H
+    lu, piv = body._lu_factor(A)
+    rhs = np.column_stack([b0, Gc])
+    sol, info = scipy.linalg.lapack.dgetrs(lu, piv, rhs, trans=1)
+    del lu, rhs
+    x0 = np.ascontiguousarray(sol[:n, 0])
+    X = np.ascontiguousarray(sol[:n, 1:])
+    Rf[ku] = 0.0  # exactly zero on supported dofs
+    # work of the given tractions in the free modes: ∫ Rf . t_known dS
+    modal = np.zeros(nf)
+    if nf:
+        tk = np.where(known_u, 0.0, values).reshape(-1, 3)
+        _, _, W, tq = d.interpolate(tk)
+        for i in range(nf):
+            _, _, _, rq = d.interpolate(Rf[:, i].reshape(-1, 3))
+            modal[i] = float(np.einsum("eq,eqk,eqk->", W, rq, tq))
+    t2 = time.perf_counter()
+    return CondensedBody(
+        body, nodes, dofs, known_u, values, x0, X, Rf, modal,
+        {"assembly": t1 - t0, "condensation": t2 - t1},
+    )
+
+
+# --------------------------------------------------------------------------- problem
+
+
+class ContactProblem:
+    """Two elastic bodies and the contact pair between them.
+
+    Parameters
+    ----------
+    body1, body2:
+        :class:`~bemcontact.body.ElasticBody` objects with distinct names.
+        Their contact surfaces must carry no boundary condition.
+    pair:
+        :class:`ContactPair`: the contact surfaces, friction, frame rule.
+    """
+
+    def __init__(self, body1: ElasticBody, body2: ElasticBody, pair: ContactPair) -> None:
+        for i, b in enumerate((body1, body2)):
+            if not isinstance(b, ElasticBody):
+                raise ConfigError(f"body{i + 1} must be an ElasticBody, got {type(b).__name__}")
+        if not isinstance(pair, ContactPair):
+            raise ConfigError(f"pair must be a ContactPair, got {type(pair).__name__}")
+        if body1.name == body2.name:
+            raise ConfigError(f"the two bodies have the same name {body1.name!r}; name them apart")
+        for b, s in ((body1, pair.surface1), (body2, pair.surface2)):
+            if s not in b.mesh.region_names:
+                raise ConfigError(
+                    f"{b.name}: unknown contact surface {s!r}; the mesh has regions "
+                    f"{list(b.mesh.region_names)}"
+                )
+            if s in b.boundary_conditions:
+                raise ConfigError(
+                    f"{b.name}: the contact surface {s!r} also has a boundary condition; remove it"
+                )
+        self.bodies = (body1, body2)
+        self.pair = pair
+        self._frame: ContactFrame | None = None
+
+    @property
+    def frame(self) -> ContactFrame:
+        if self._frame is None:
+            b1, b2 = self.bodies
+            self._frame = ContactFrame(
+                b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
+                self.pair.frame, names=(b1.name, b2.name),
+            )
+        return self._frame
+
+    def contact_modulus(self) -> float:
+        """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)."""
+        return 1.0 / sum(
+            (1 - b.material.poisson_ratio**2) / b.material.youngs_modulus for b in self.bodies
+        )
+
+    def solve(
+        self, options: SolverOptions | None = None, *, raise_on_failure: bool = True
+    ) -> ContactResult:
+        """Condense both bodies, then run the generalized Newton method per
+        load step.  Raises :class:`ConvergenceError` (carrying the result and
+        its residual history) if a step fails, unless ``raise_on_failure`` is
+        False."""
+        opt = options or SolverOptions()
+        if not isinstance(opt, SolverOptions):
+            raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
+        t0 = time.perf_counter()
+        frame = self.frame
+        t1 = time.perf_counter()
+        cb = tuple(condense(b, frame.nodes(a), opt.threads) for a, b in enumerate(self.bodies))
+        t2 = time.perf_counter()
+        system = _InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
+        t3 = time.perf_counter()
+        steps: list[StepRecord] = []
+        z = system.zero()
+        k_prev = system.k_initial_t()
+        failed: str | None = None
+        for s in range(1, opt.load_steps + 1):
+            f = s / opt.load_steps
+            z, rec, msg = system.newton(z, f, k_prev, opt)
+            steps.append(rec)
+            if msg is not None:
+                failed = f"load step {s}/{opt.load_steps} (factor {f:g}): {msg}"
+                break
+            k_prev = system.k(z, f)[:, :2].copy()
+        t4 = time.perf_counter()
+        result = system.result(z, f, k_prev, steps, self.bodies)
+        result.timings = {
+            "frame": t1 - t0,
+            "assembly": sum(c.timings["assembly"] for c in cb),
+            "condensation": sum(c.timings["condensation"] for c in cb) + (t3 - t2),
+            "newton": t4 - t3,
+            "total": time.perf_counter() - t0,
+        }
+        if failed is not None and raise_on_failure:
+            hist = ", ".join(f"{r:.3e}" for r in steps[-1].residual_history)
+            raise ConvergenceError(
+                f"contact solve did not converge at {failed}; scaled residual history: [{hist}]",
+                result,
+            )
+        return result
+
+
+class _InterfaceSystem:
+    """The nonsmooth interface system of eq. 17 after condensing both bodies:
+    unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2)."""
+
+    def __init__(self, frame: ContactFrame, cb, mu: float, r_scale: float) -> None:
+        self.frame = frame
+        self.cb = cb
+        self.mu = float(mu)
+        act = np.flatnonzero(frame.active)
+        self.act = act
+        m = act.size
+        self.m = m
+        Q = frame.Q[act]  # (m, 3, 3)
+        a = frame.weights[act]
+        self.a = a
+        self.r = r_scale / frame.size[act]  # r_n = r_t = c E*/h_j
+        signs = (-1.0, 1.0)
+        self.DQ, self.T, self.W = [], [], []
+        K = np.zeros((3 * m, 3 * m))
+        k0X = np.zeros(3 * m)
+        k0u = np.zeros(3 * m)
+        self.L = []
+        self.E = []
+        for i, c in enumerate(cb):
+            D = frame.D[i][:, act]  # (n, m)
+            n = D.shape[0]
+            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i]), D)
+            # block (p, j) = coefficient * Q_j  ->  (3n, 3m)
+            DQ = signs[i] * np.einsum("pj,jcl->pcjl", D, Q).reshape(3 * n, 3 * m)
+            T = signs[i] * np.einsum("pj,jcl->pcjl", MiD, Q).reshape(3 * n, 3 * m)
+            Wm = signs[i] * np.einsum("pj,jcl->jlpc", D / a[None, :], Q).reshape(3 * m, 3 * n)
+            self.DQ.append(DQ)
+            self.T.append(T)
+            self.W.append(Wm)
+            K += Wm @ (c.F @ T)
+            X = c.body.discretization.points[c.nodes].ravel()
+            k0X += Wm @ X
+            k0u += Wm @ c.u0
+            self.L.append(Wm @ c.Rc)
+            # equilibrium in the free rigid modes, scaled to traction units
+            self.E.append(c.Rc.T @ DQ)
+        self.K = K
+        self.k0X = k0X
+        self.k0u = k0u
+        self.area = float(a.sum())
+        self.nf = [c.Rf.shape[1] for c in cb]
+
+    # -- vectors
+    def zero(self) -> np.ndarray:
+        return np.zeros(3 * self.m + sum(self.nf))
+
+    def split(self, z):
+        m3 = 3 * self.m
+        lam = z[:m3]
+        al = (z[m3 : m3 + self.nf[0]], z[m3 + self.nf[0] :])
+        return lam, al
+
+    def k(self, z: np.ndarray, f: float) -> np.ndarray:
+        lam, al = self.split(z)
+        kk = self.k0X + f * self.k0u + self.K @ lam
+        for L, a_ in zip(self.L, al):
+            if a_.size:
+                kk = kk + L @ a_
+        return kk.reshape(-1, 3)
+
+    def k_initial_t(self) -> np.ndarray:
+        return self.k0X.reshape(-1, 3)[:, :2].copy()
+
+    def residual(self, z, f, k_prev):
+        lam, al = self.split(z)
+        kk = self.k(z, f)
+        phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r).ravel()
+        eq = [
+            (E @ lam + f * c.known_modal_force) / self.area
+            for E, c in zip(self.E, self.cb)
+            if E.shape[0]
+        ]
+        return np.concatenate([phi, *eq]) if eq else phi
+
+    def jacobian(self, z, f, k_prev):
+        lam, al = self.split(z)
+        kk = self.k(z, f)
+        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r)
+        m3 = 3 * self.m
+        nz = z.size
+        J = np.zeros((nz, nz))
+        Jk_blk = scipy.sparse.block_diag(list(Jk), format="csr") if self.m else None
+        J[:m3, :m3] = scipy.sparse.block_diag(list(Jl)).toarray() + Jk_blk @ self.K
+        col = m3
+        for L in self.L:
+            if L.shape[1]:
+                J[:m3, col : col + L.shape[1]] = Jk_blk @ L
+                col += L.shape[1]
+        row = m3
+        for E in self.E:
+            if E.shape[0]:
+                J[row : row + E.shape[0], :m3] = E / self.area
+                row += E.shape[0]
+        return J, state
+
+    def newton(self, z, f, k_prev, opt: SolverOptions):
+        hist: list[float] = []
+        steps: list[float] = []
+        phi = self.residual(z, f, k_prev)
+        scale = max(np.abs(phi).max(initial=0.0), np.abs(z[: 3 * self.m]).max(initial=0.0), 1e-300)
+        it = 0
+        msg = None
+        while True:
+            lam_scale = max(scale, np.abs(z[: 3 * self.m]).max(initial=0.0))
+            err = np.abs(phi).max(initial=0.0) / lam_scale
+            hist.append(float(err))
+            if opt.progress:
+                print(f"  load {f:.3g}  iteration {it:3d}  residual {err:.3e}", file=sys.stderr)
+            if err <= opt.tolerance:
+                break
+            if it >= opt.max_iterations:
+                msg = f"no convergence in {opt.max_iterations} iterations"
+                break
+            J, _ = self.jacobian(z, f, k_prev)
+            try:
+                lu = scipy.linalg.lu_factor(J, check_finite=True)
+            except (ValueError, np.linalg.LinAlgError) as exc:
+                msg = f"the Newton matrix is not usable ({exc})"
+                break
+            d = np.abs(np.diag(lu[0]))
+            if d.min() <= 1e-13 * d.max():
+                msg = (
+                    "the Newton matrix is singular: a body is free to move (rigid motion not "
+                    "restrained by supports or by contact) or the contact surfaces do not face "
+                    "each other"
+                )
+                break
+            dz = -scipy.linalg.lu_solve(lu, phi)
+            psi0 = 0.5 * float(phi @ phi)
+            alpha = 1.0
+            while True:
+                zt = z + alpha * dz
+                pt = self.residual(zt, f, k_prev)
+                if 0.5 * float(pt @ pt) <= (1 - 2 * opt.line_search_sigma * alpha) * psi0:
+                    break
+                alpha *= 0.5
+                if alpha < opt.min_step:
+                    break
+            if alpha < opt.min_step:
+                msg = "line search failed (no decrease of the residual along the Newton direction)"
+                break
+            z, phi = zt, pt
+            steps.append(alpha)
+            it += 1
+        rec = StepRecord(f, it, hist, msg is None, steps)
+        return z, rec, msg
+
+    # -- results
+    def result(self, z, f, k_prev, steps, bodies) -> ContactResult:
+        fr = self.frame
+        lam, al = self.split(z)
+        kk = self.k(z, f)
+        lam3 = lam.reshape(-1, 3)
+        state_act = law.contact_state(lam3, kk, k_prev, self.mu, self.r, self.r)
+        act = self.act
+        Q = fr.Q[act]
+        mfull = fr.n_frame
+        # frame results (inactive nodes: open, zero traction, NaN gap)
+        def full(v, fill=0.0):
+            out = np.full((mfull,) + v.shape[1:], fill, dtype=v.dtype)
+            out[act] = v
+            return out
+
+        t_glob = np.einsum("jcl,jl->jc", Q[:, :, :2], lam3[:, :2])
+        k_init = self.k0X.reshape(-1, 3)
+        slip = np.einsum("jcl,jl->jc", Q[:, :, :2], kk[:, :2] - k_init[:, :2])
+        frame_res = FrameResult(
+            points=fr.points,
+            normals=fr.Q[:, :, 2],
+            pressure=full(lam3[:, 2]),
+            tangential_traction=full(t_glob),
+            gap=full(kk[:, 2], np.nan),
+            slip=full(slip),
+            state=full(state_act.astype(np.int8), np.int8(0)),
+            weights=fr.weights,
+        )
+        F = np.einsum("j,jcl,jl->c", self.a, Q, lam3)  # force on body 2
+        nbar = np.einsum("j,jc->c", self.a, Q[:, :, 2])
+        nbar /= np.linalg.norm(nbar)
+        Fn = float(F @ nbar)
+        Ft = float(np.linalg.norm(F - Fn * nbar))
+        sols, ifaces = [], []
+        state_full = frame_res.state
+        for i, (c, b) in enumerate(zip(self.cb, bodies)):
+            d = b.discretization
+            tc = self.T[i] @ lam
+            x = f * c.x0 + c.X @ tc
+            if al[i].size:
+                x = x + c.Rf @ al[i]
+            vals = f * c.values
+            u = np.where(c.known_u, vals, x)
+            t = np.where(c.known_u, x, vals)
+            t[c.dofs] = tc
+            sols.append(
+                BodySolution(
+                    points=d.points, normals=d.normals, displacement=u.reshape(-1, 3),
+                    traction=t.reshape(-1, 3), weights=d.weights, region=d.region,
+                    region_names=b.mesh.region_names, discretization=d,
+                    timings=dict(c.timings),
+                )
+            )
+        for i, (c, b) in enumerate(zip(self.cb, bodies)):
+            ifaces.append(self._interface(i, c, b, sols[i], sols[1 - i], state_full))
+        return ContactResult(
+            converged=all(s.converged for s in steps) and len(steps) > 0,
+            newton_iterations=sum(s.iterations for s in steps),
+            steps=steps,
+            normal_force=Fn,
+            tangential_force=Ft,
+            contact_force=F,
+            bodies=(sols[0], sols[1]),
+            names=(bodies[0].name, bodies[1].name),
+            interfaces=(ifaces[0], ifaces[1]),
+            frame=frame_res,
+        )
+
+    def _interface(self, i, c, b, sol, other_sol, frame_state) -> InterfaceResult:
+        fr = self.frame
+        d = b.discretization
+        nodes = c.nodes
+        X = d.points[nodes]
+        n = d.normals[nodes]
+        u = sol.displacement[nodes]
+        t = sol.traction[nodes]
+        tn = np.einsum("pc,pc->p", t, n)
+        # pointwise gap and slip against the other body's surface
+        other = self.cb[1 - i]
+        od = other.body.discretization
+        oel = fr.surface_elements(1 - i)
+        el, xi, inside = _locate(od, oel, X)
+        xo, _, _ = _geometry(od, el, xi)
+        phi = _functional_basis(od, el, xi)
+        k = od.mesh.elements.shape[1]
+        uo = np.einsum("pk,pkc->pc", phi, other_sol.displacement[od.fconn[el, :k]])
+        rel = (xo + uo) - (X + u)
+        gap = np.where(inside, np.einsum("pc,pc->p", rel, n), np.nan)
+        du = u - uo
+        slip = du - np.einsum("pc,pc->p", du, n)[:, None] * n
+        slip[~inside] = np.nan
+        # state: that of the frame node most strongly coupled to the node
+        D = fr.D[i]
+        strongest = np.argmax(np.abs(D), axis=1)
+        coupled = np.abs(D).max(axis=1) > 0
+        state = np.where(coupled, frame_state[strongest], 0).astype(np.int8)
+        return InterfaceResult(
+            body=b.name, surface=b.mesh.region_names[int(d.region[nodes[0]])], nodes=nodes,
+            points=X, normals=n, displacement=u, traction=t, pressure=-tn,
+            tangential_traction=t - tn[:, None] * n, gap=gap, slip=slip, state=state,
+            weights=d.weights[nodes],
+        )
+
+
+__all__ = [
+    "ContactPair",
+    "SolverOptions",
+    "ContactProblem",
+    "CondensedBody",
+    "condense",
+]
