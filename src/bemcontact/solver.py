@@ -306,6 +306,7 @@ class ContactProblem:
         failed: str | None = None
         for s in range(1, opt.load_steps + 1):
             f = s / opt.load_steps
+            k_start = k_prev
             z, rec, msg = system.newton(z, f, k_prev, opt)
             steps.append(rec)
             if msg is not None:
@@ -313,7 +314,8 @@ class ContactProblem:
                 break
             k_prev = system.k(z, f)[:, :2].copy()
         t4 = time.perf_counter()
-        result = system.result(z, f, k_prev, steps, self.bodies)
+        # states are those of the last step, judged against its starting slip
+        result = system.result(z, f, k_start, steps, self.bodies)
         result.timings = {
             "frame": t1 - t0,
             "assembly": sum(c.timings["assembly"] for c in cb),
