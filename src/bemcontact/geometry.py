@@ -76,4 +76,40 @@ def hollow_sphere(inner_radius: float, outer_radius: float, mesh_size: float, or
     return mesh
 
 
-__all__ = ["hollow_sphere"]
+def gmsh_box(lower, upper, mesh_size: float, order: int = 1, quads: bool = False,
+             seed: int = 0) -> SurfaceMesh:
+    """Box [lower, upper] with *unstructured* faces (gmsh frontal-Delaunay
+    triangles, or recombined quadrilaterals with ``quads=True``); regions
+    ``xmin``, ``xmax``, ``ymin``, ``ymax``, ``zmin``, ``zmax`` as for
+    :func:`~bemcontact.mesh.box`.  ``seed`` perturbs gmsh's mesher so that
+    two calls give different (non-matching) meshes of the same size."""
+    lo = [float(v) for v in lower]
+    hi = [float(v) for v in upper]
+    if len(lo) != 3 or len(hi) != 3 or not all(b > a for a, b in zip(lo, hi)):
+        raise ConfigError(f"gmsh_box: need lower < upper componentwise, got {lower!r}, {upper!r}")
+
+    def build(gmsh):
+        occ = gmsh.model.occ
+        vol = occ.addBox(*lo, *(b - a for a, b in zip(lo, hi)))
+        occ.synchronize()
+        gmsh.option.setNumber("Mesh.RandomSeed", 1 + int(seed))
+        gmsh.option.setNumber("Mesh.Algorithm", 8 if quads else 6)
+        if quads:
+            gmsh.option.setNumber("Mesh.RecombineAll", 1)
+        faces = [t for _, t in gmsh.model.getBoundary([(3, vol)], oriented=False)]
+        occ.remove([(3, vol)])
+        occ.synchronize()
+        for tag in faces:
+            c = occ.getCenterOfMass(2, tag)
+            for axis in range(3):
+                for side, ref in (("min", lo[axis]), ("max", hi[axis])):
+                    if abs(c[axis] - ref) <= 1e-9 * (1 + abs(ref)):
+                        gmsh.model.addPhysicalGroup(2, [tag], name=f"{'xyz'[axis]}{side}")
+
+    mesh = _mesh_with_gmsh(build, mesh_size, order, "gmsh_box")
+    if sorted(mesh.region_names) != sorted(f"{a}{s}" for a in "xyz" for s in ("min", "max")):
+        raise MeshError(f"gmsh_box: unexpected regions {mesh.region_names}")  # pragma: no cover
+    return mesh
+
+
+__all__ = ["hollow_sphere", "gmsh_box"]
