@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import sys
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -452,7 +453,10 @@ class _InterfaceSystem:
                 break
             J, _ = self.jacobian(z, f, k_prev)
             try:
-                lu = scipy.linalg.lu_factor(J, check_finite=True)
+                with warnings.catch_warnings():
+                    # exact singularity is diagnosed below, with a better message
+                    warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                    lu = scipy.linalg.lu_factor(J, check_finite=True)
             except (ValueError, np.linalg.LinAlgError) as exc:
                 msg = f"the Newton matrix is not usable ({exc})"
                 break
