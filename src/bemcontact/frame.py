@@ -308,6 +308,7 @@ class ContactFrame:
         )
         rule_p, rule_w = _triangle_rule(order)
         fo, ft, zs, ws = [], [], [], []
+        same_way = 0
         for i, j in zip(*np.nonzero(hit)):
             T = np.stack([t1[i], t2[i]], axis=1)  # (3, 2)
             A = (Co[i] - c_o[i]) @ T
@@ -317,12 +318,14 @@ class ContactFrame:
                 A = A[::-1]
             if _signed_area(B) < 0:
                 B = B[::-1]
-            # skip elements facing away or far off the plane
+            # skip elements far off the plane, or not facing each other
+            # (outward normals of touching faces are opposite)
+            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > tol:
+                continue
             nt = np.cross(Ct[j][1] - Ct[j][0], Ct[j][2] - Ct[j][0])
             nt /= np.linalg.norm(nt)
-            if abs(nt @ n_o[i]) < 0.5:
-                continue
-            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > tol:
+            if nt @ n_o[i] > -0.5:
+                same_way += nt @ n_o[i] > 0.5
                 continue
             P = _clip(B, A)
             if len(P) < 3:
@@ -340,6 +343,12 @@ class ContactFrame:
                 ws.append(2 * ar * rule_w)
                 fo.append(np.full(len(q), i))
                 ft.append(np.full(len(q), j))
+        if not zs and same_way:
+            raise ConfigError(
+                f"contact surfaces of {self.names[0]} and {self.names[1]} face the same way "
+                "(their outward normals point in the same direction where they overlap), so "
+                "they cannot touch; check the surface names"
+            )
         if not zs:
             raise ConfigError(
                 f"contact surfaces of {self.names[0]} and {self.names[1]} do not overlap: no "
@@ -416,6 +425,16 @@ class ContactFrame:
         pos = np.searchsorted(own.elements, el)
         N, _, _ = _basis(self._linear, np.broadcast_to(self._ref, (len(xi),) + self._ref.shape), xi)
         return self._fconn[pos], N[:, : self._ref.shape[0]], ok
+
+    def offsets(self, a: int) -> np.ndarray:
+        """(n_a, 3): vector from each contact node's projection on the frame
+        surface to the node itself (zero for the owner's nodes; the local
+        initial gap for the other body's)."""
+        el, xi, _ = self.projection[a]
+        own = self._s[self.owner]
+        x, _, _ = _geometry(own.disc, el, xi)
+        sf = self._s[a]
+        return sf.disc.points[sf.nodes] - x
 
     def _collocation_coupling(self) -> None:
         D = []

@@ -368,7 +368,14 @@ class _InterfaceSystem:
             self.T.append(T)
             self.W.append(Wm)
             K += Wm @ (c.F @ T)
-            X = c.body.discretization.points[c.nodes].ravel()
+            if frame.rule == "mortar":
+                # positions: exact for any overlap because (*) holds
+                X = c.body.discretization.points[c.nodes].ravel()
+            else:
+                # point evaluation violates (*): take the initial gap from each
+                # node's offset to the frame surface (the paper's g0), so the
+                # position of the origin does not enter
+                X = frame.offsets(i).ravel()
             k0X += Wm @ X
             k0u += Wm @ c.u0
             self.L.append(Wm @ c.Rc)
