@@ -237,3 +237,28 @@ def test_unsupported_body_gives_a_clear_error_quickly():
     assert not res.converged
     assert res.steps[-1].iterations <= 1
     assert "residual history" in str(info.value)
+
+
+def test_proportional_load_steps_give_the_one_step_answer():
+    """Under proportional loading every node slips monotonically in a fixed
+    direction, so the answer is path independent: three load steps, each
+    measuring slip from the previous converged step, must reproduce the
+    one-step solution (measured 2.7e-14 p_max; asserted at the Newton
+    tolerance level 1e-8).  A total-slip formulation would agree here too;
+    the incremental one is what makes non-monotonic histories (issue 6)
+    correct."""
+    lower, upper = bodies(5, 1.0e8)
+    problem = ContactProblem(lower, upper, ContactPair("zmax", "zmin", MU))
+    one = problem.solve(SolverOptions(load_steps=1))
+    three = problem.solve(SolverOptions(load_steps=3))
+    assert_invariants(three, MU)
+    assert [s.load_factor for s in three.steps] == pytest.approx([1 / 3, 2 / 3, 1])
+    assert all(s.converged and s.iterations <= 10 for s in three.steps)
+    assert three.newton_iterations == sum(s.iterations for s in three.steps)
+    pmax = one.frame.pressure.max()
+    np.testing.assert_array_equal(three.frame.state, one.frame.state)
+    np.testing.assert_allclose(three.frame.pressure, one.frame.pressure, atol=1e-8 * pmax)
+    np.testing.assert_allclose(
+        three.frame.tangential_traction, one.frame.tangential_traction, atol=1e-8 * pmax
+    )
+    np.testing.assert_allclose(three.frame.slip, one.frame.slip, atol=1e-8 * DELTA)
