@@ -26,6 +26,9 @@ install: $(VENV)/.built
 
 demo: install
 	$(PY) examples/compress_cube.py
+	$(VENV)/bin/bemcontact run examples/two_cubes_similar.toml --out out/similar
+	$(VENV)/bin/bemcontact run examples/two_cubes_dissimilar.toml --out out/dissimilar
+	$(PY) examples/two_cubes_figure.py out/similar out/dissimilar out/two_cubes_figure1.png
 
 test: install
 	$(PY) -m pytest -q

@@ -18,3 +18,22 @@ def test_one_body_benchmark_smoke():
     # quadrature-level, as in the uniform-stress validation (1e-8)
     assert row["error"] < 1e-8
     assert row["assembly_s_2t"] > 0 and row["peak_rss_mb"] > 0
+
+
+def test_two_cubes_benchmark_smoke():
+    spec = importlib.util.spec_from_file_location("b2", BENCH / "two_cubes_N4_16.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    row = mod.one(3)
+    # functional nodes: lower 3x3x3 quad4 (as in the one-body smoke run), upper 2x2x2
+    assert row["nodes_lower"] == 144 and row["nodes_upper"] == 78
+    assert row["nodes"] == row["nodes_lower"] + row["nodes_upper"]
+    # mortar frame on the coarser (upper, 2x2) face: 3x3 nodes, all in contact
+    assert row["frame_nodes"] == 9
+    assert row["converged"] and row["newton_iterations"] >= 1
+    # validation.md: dissimilar case, uniaxial-stress / confined-modulus bounds
+    assert 800.0 < row["normal_force"] < 1077.0
+    assert row["open"] == 0 and row["stick"] + row["slip"] == row["frame_nodes"]
+    for k in ("assembly_s", "condensation_s", "frame_s", "newton_s", "total_s", "peak_rss_mb"):
+        assert row[k] > 0, k
+    assert row["total_s"] >= row["assembly_s"] + row["newton_s"]

@@ -11,6 +11,7 @@ from .frame import ContactFrame
 from .errors import BemcontactError, ConfigError, ConvergenceError, MaterialError, MeshError
 from .material import LinearElastic
 from .mesh import SurfaceMesh, box, read_mesh
+from .problem import Problem, load_problem
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
 from .solver import ContactPair, ContactProblem, SolverOptions, condense
 from .operators import (
@@ -54,4 +55,6 @@ __all__ = [
     "FrameResult",
     "InterfaceResult",
     "StepRecord",
+    "Problem",
+    "load_problem",
 ]

@@ -591,7 +591,8 @@ class _InterfaceSystem:
         D = fr.D[i]
         strongest = np.argmax(np.abs(D), axis=1)
         coupled = np.abs(D).max(axis=1) > 0
-        state = np.where(coupled, frame_state[strongest], 0).astype(np.int8)
+        # nodes off the other body's surface are open whatever their coupling
+        state = np.where(coupled & inside, frame_state[strongest], 0).astype(np.int8)
         return InterfaceResult(
             body=b.name, surface=b.mesh.region_names[int(d.region[nodes[0]])], nodes=nodes,
             points=X, normals=n, displacement=u, traction=t, pressure=-tn,

@@ -1,0 +1,152 @@
+"""The ``bemcontact`` command.  No numerics here: only the public API.
+
+    bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
+    bemcontact --version
+
+Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
+results not writable, with one line ``bemcontact: error: ...`` on stderr and
+nothing written; 3 the contact solve did not converge: the message with the
+residual history and the contact states goes to stderr and a diagnostic
+``DIR/summary.json`` (``"converged": false``) is written.  ``--debug`` shows
+the traceback instead.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import pathlib
+import sys
+from collections.abc import Sequence
+
+from . import __version__
+from .errors import BemcontactError, ConvergenceError
+from .io import write_results, write_summary
+from .problem import load_problem
+
+EXIT_OK = 0
+EXIT_INPUT = 2
+EXIT_NOT_CONVERGED = 3
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return n
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="bemcontact",
+        description="3D frictional contact between linear elastic bodies (BEM).",
+    )
+    p.add_argument("--version", action="version", version=f"bemcontact {__version__}")
+    sub = p.add_subparsers(dest="command", metavar="COMMAND")
+    run = sub.add_parser(
+        "run", help="solve a problem file and write the results",
+        description="Solve a problem file (docs/problem-file.md) and write summary.json, VTU "
+        "and CSV files into DIR.",
+    )
+    run.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
+    run.add_argument("--out", metavar="DIR", type=pathlib.Path, required=True,
+                     help="output directory (created when the results are written)")
+    run.add_argument("--threads", metavar="N", type=_positive_int,
+                     help="assembly threads (overrides solver.threads; default all cores)")
+    run.add_argument("--quiet", action="store_true", help="print nothing on success")
+    run.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_usage(sys.stderr)
+        print("bemcontact: error: a command is required (run)", file=sys.stderr)
+        return EXIT_INPUT
+    return _run(args)
+
+
+def _error(message: str) -> None:
+    print(f"bemcontact: error: {' '.join(str(message).split())}", file=sys.stderr)
+
+
+def _run(args: argparse.Namespace) -> int:
+    out: pathlib.Path = args.out
+    try:
+        if out.exists() and not out.is_dir():
+            _error(f"{out}: --out: exists and is not a directory")
+            return EXIT_INPUT
+        problem = load_problem(args.problem)
+        options = problem.options
+        if args.threads is not None:
+            options = dataclasses.replace(options, threads=args.threads)
+        result = problem.contact_problem().solve(options)
+        files = write_results(result, out, problem.echo)
+    except ConvergenceError as exc:
+        if args.debug:
+            raise
+        return _not_converged(exc, out, problem.echo)
+    except (BemcontactError, OSError) as exc:
+        if args.debug:
+            raise
+        if isinstance(exc, OSError) and not isinstance(exc, BemcontactError):
+            where = getattr(exc, "filename", None)
+            _error(f"cannot write the results to {out}: {exc.strerror or exc}"
+                   + (f" ({where})" if where else ""))
+        else:
+            _error(str(exc))
+        return EXIT_INPUT
+    if not args.quiet:
+        print(_report(problem, result, out, files))
+    return EXIT_OK
+
+
+def _counts(c: dict[str, int]) -> str:
+    return ", ".join(f"{v} {k}" for k, v in c.items())
+
+
+def _report(problem, result, out: pathlib.Path, files) -> str:
+    force = problem.units.get("force", "")
+    unit = f" {force}" if force else ""
+    steps = len(result.steps)
+    lines = [
+        f"{problem.path}: converged in {result.newton_iterations} Newton iteration(s), "
+        f"{steps} load step(s), {result.timings.get('total', 0.0):.2f} s",
+        f"  normal force      {result.normal_force:.6g}{unit}",
+        f"  tangential force  {result.tangential_force:.6g}{unit}",
+    ]
+    for iface in result.interfaces:
+        lines.append(
+            f"  {iface.body} ({iface.surface}, {iface.state.size} nodes): {_counts(iface.counts())}"
+        )
+    lines.append(f"  frame ({result.frame.state.size} nodes): {_counts(result.frame.counts())}")
+    lines.append(f"results in {out}: " + ", ".join(f.name for f in files))
+    return "\n".join(lines)
+
+
+def _not_converged(exc: ConvergenceError, out: pathlib.Path, echo) -> int:
+    _error(str(exc))
+    r = exc.result
+    if r is not None:
+        for iface in r.interfaces:
+            print(f"  states at the last iterate, {iface.body}: {_counts(iface.counts())}",
+                  file=sys.stderr)
+        print(f"  states at the last iterate, frame: {_counts(r.frame.counts())}", file=sys.stderr)
+    data = r if r is not None else {"converged": False}
+    try:
+        path = write_summary(data, out, echo, error=str(exc))
+    except (BemcontactError, OSError) as werr:
+        print(f"  could not write the diagnostic summary: {werr}", file=sys.stderr)
+    else:
+        print(f"  diagnostic summary: {path}", file=sys.stderr)
+    return EXIT_NOT_CONVERGED
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,187 @@
+"""Figures of contact results (matplotlib, an optional dependency imported
+inside the functions; figures are drawn off-screen with the Agg renderer and
+no pyplot state is touched).
+
+A result is given either as a :class:`~bemcontact.results.ContactResult` or
+as a directory written by :func:`bemcontact.io.write_results` (the CLI's
+``--out``), from whose ``<body>_interface.csv`` files the same figure is
+rebuilt.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import pathlib
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ConfigError
+from .results import ContactResult
+
+Source = ContactResult | str | os.PathLike
+
+
+@dataclass(frozen=True)
+class InterfaceLine:
+    """One body's interface nodes on a line.
+
+    body: body name.  axis: the coordinate along the line (0, 1, 2).
+    across: the other in-plane coordinate; ``row`` its value on the line.
+    coordinate: (n,) position along the line, increasing.
+    displacement: (n, 3) displacement of those nodes.
+    """
+
+    body: str
+    axis: int
+    across: int
+    row: float
+    coordinate: np.ndarray
+    displacement: np.ndarray
+
+
+def _interface_points(source: Source) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """(body name, points (n, 3), displacement (n, 3)) of both interfaces."""
+    if isinstance(source, ContactResult):
+        return [(i.body, i.points, i.displacement) for i in source.interfaces]
+    if not isinstance(source, (str, os.PathLike)):
+        raise ConfigError(
+            f"expected a ContactResult or a results directory, got {type(source).__name__}"
+        )
+    from .io import read_csv
+
+    d = pathlib.Path(source)
+    if not d.is_dir():
+        raise ConfigError(f"{os.fspath(source)}: not a results directory")
+    names: list[str] = []
+    summary = d / "summary.json"
+    if summary.is_file():
+        names = list(json.loads(summary.read_text()).get("names", []))
+    if not names:
+        names = sorted(p.name[: -len("_interface.csv")] for p in d.glob("*_interface.csv"))
+    if not names:
+        raise ConfigError(f"{os.fspath(source)}: no <body>_interface.csv files")
+    out = []
+    for n in names:
+        f = d / f"{n}_interface.csv"
+        if not f.is_file():
+            raise ConfigError(f"{f}: missing (the directory's summary.json names body {n!r})")
+        c = read_csv(f)
+        try:
+            pts = np.column_stack([c["x"], c["y"], c["z"]])
+            u = np.column_stack([c["ux"], c["uy"], c["uz"]])
+        except KeyError as exc:
+            raise ConfigError(f"{f}: no column {exc.args[0]!r}") from None
+        out.append((n, pts, u))
+    return out
+
+
+def _rows(values: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Distinct values (within tol) in increasing order, and how many nodes
+    each holds."""
+    v = np.sort(values)
+    start = np.concatenate([[True], np.diff(v) > tol])
+    idx = np.flatnonzero(start)
+    return v[idx], np.diff(np.append(idx, v.size))
+
+
+def interface_line(
+    source: Source, axis: int = 0, through: float | None = None
+) -> list[InterfaceLine]:
+    """Both bodies' interface displacements along one line of the (flat)
+    contact interface.
+
+    The interface plane is the pair of coordinate axes in which the interface
+    nodes spread most; the line runs along ``axis`` at the other in-plane
+    coordinate ``through`` (default: a quarter into the range of that
+    coordinate covered by both bodies' nodes, off the symmetry line of symmetric problems, where the
+    in-plane displacement across the line vanishes).  The meshes need not
+    match and need not have nodes on the line: each body's nodal
+    displacements are interpolated linearly (Delaunay triangulation of its
+    interface nodes in the plane, :class:`scipy.interpolate.LinearNDInterpolator`),
+    exact for the linear fields and O(h^2) otherwise, at that body's distinct
+    node coordinates along ``axis`` which fall inside its node cloud.  Both
+    bodies are thus compared on the same line, as in the founding paper's
+    Figure 1.  Near the edges the nodes are partially discontinuous (shifted
+    into the elements, docs/theory.md), so the line stops about h/6 short of
+    the interface's edges.
+    """
+    from scipy.interpolate import LinearNDInterpolator
+
+    bodies = _interface_points(source)
+    if axis not in (0, 1, 2):
+        raise ConfigError(f"axis must be 0, 1 or 2 (x, y, z), got {axis!r}")
+    allp = np.vstack([p for _, p, _ in bodies])
+    extent = allp.max(axis=0) - allp.min(axis=0)
+    normal = int(np.argmin(extent))
+    if axis == normal:
+        raise ConfigError(
+            f"axis {'xyz'[axis]} is normal to the contact interface; choose an in-plane axis"
+        )
+    across = 3 - axis - normal
+    # default line: a quarter into the range both bodies' nodes cover
+    lo = max(float(p[:, across].min()) for _, p, _ in bodies)
+    hi = min(float(p[:, across].max()) for _, p, _ in bodies)
+    width = float(extent[across])
+    target = lo + 0.25 * (hi - lo) if through is None else float(through)
+    tol = 1e-9 * max(width, 1e-300)
+    lines = []
+    for name, p, u in bodies:
+        plane = p[:, [axis, across]]
+        coords, _ = _rows(p[:, axis], tol)
+        samples = np.column_stack([coords, np.full(coords.size, target)])
+        values = LinearNDInterpolator(plane, u)(samples)
+        ok = np.isfinite(values).all(axis=1)
+        if not ok.any():
+            raise ConfigError(
+                f"{name}: the line {'xyz'[across]} = {target:g} misses its interface nodes "
+                f"({'xyz'[across]} from {p[:, across].min():g} to {p[:, across].max():g})"
+            )
+        lines.append(InterfaceLine(name, axis, across, target, coords[ok], values[ok]))
+    return lines
+
+
+def plot_interface_line(
+    results: Mapping[str, Source],
+    path: str | os.PathLike,
+    component: int = 1,
+    axis: int = 0,
+    through: float | None = None,
+    *,
+    length_unit: str = "mm",
+) -> pathlib.Path:
+    """The founding paper's Figure 1: per result one panel with the
+    displacement component ``component`` (default 1, u_y) of both bodies'
+    interface nodes along a line of the interface (see
+    :func:`interface_line` for ``axis`` and ``through``).  ``results`` maps a
+    panel title (e.g. "similar", "dissimilar") to a ContactResult or a
+    results directory.  Writes a PNG to ``path`` and returns it."""
+    from matplotlib.figure import Figure
+
+    if not results:
+        raise ConfigError("plot_interface_line: no results given")
+    if component not in (0, 1, 2):
+        raise ConfigError(f"component must be 0, 1 or 2 (x, y, z), got {component!r}")
+    c = "xyz"[component]
+    fig = Figure(figsize=(5.0 * len(results), 4.0), layout="constrained")
+    axes = fig.subplots(1, len(results), squeeze=False)[0]
+    for ax, (title, source) in zip(axes, results.items()):
+        for line, marker in zip(interface_line(source, axis, through), ("o", "s")):
+            ax.plot(
+                line.coordinate, line.displacement[:, component], marker=marker, markersize=4,
+                label=line.body,
+            )
+        ax.set_title(f"{title} ({'xyz'[line.across]} = {line.row:.4g} {length_unit})")
+        ax.set_xlabel(f"{'xyz'[axis]} ({length_unit})")
+        ax.set_ylabel(f"$u_{c}$ ({length_unit})")
+        ax.axhline(0.0, color="0.7", linewidth=0.8)
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+    out = pathlib.Path(path)
+    fig.savefig(out, dpi=150, format="png")
+    return out
+
+
+__all__ = ["InterfaceLine", "interface_line", "plot_interface_line"]

@@ -1,0 +1,507 @@
+"""Problem files: a TOML description of a two-body contact problem.
+
+:func:`load_problem` reads and checks a problem file completely (meshes are
+built and read, materials and boundary conditions checked, the contact
+surfaces located and, by default, the contact frame built) before any BEM
+numerics run, and returns a :class:`Problem`.  The format is documented in
+``docs/problem-file.md``; in short::
+
+    title = "two cubes"                 # optional
+    units = { length = "mm", force = "N", stress = "MPa" }   # optional labels
+
+    [solver]                            # optional: SolverOptions fields
+    tolerance = 1e-10
+
+    [[body]]                            # exactly two
+    name = "lower"
+    mesh = { box = { lower = [0, 0, 0], upper = [2, 2, 2], divisions = 6 } }
+    material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }
+    [body.boundary_conditions.zmin]
+    displacement = [0, 0, 0]
+
+    [contact]
+    bodies = ["lower", "upper"]
+    surfaces = ["zmax", "zmin"]
+    friction_coefficient = 0.1
+
+Every problem in the file is reported as a :class:`~bemcontact.errors.ConfigError`
+with a one-line message ``<file>: <field>: <what is wrong>, got <value>`` (plus a
+fix where one is obvious).  Field paths are dotted and index the ``[[body]]``
+array by position as written in the file, starting at 0: ``body[1].material.
+poisson_ratio``, ``body[0].boundary_conditions.zmin.displacement[2]``,
+``contact.surfaces[1]``.  Errors that concern the whole file (unreadable, not
+valid TOML) have no field part.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import difflib
+import math
+import os
+import pathlib
+import re
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, NoReturn
+
+from .body import Displacement, ElasticBody, Pressure, Traction
+from .errors import BemcontactError, ConfigError
+from .material import LinearElastic
+from .mesh import ELEMENT_TYPES, SurfaceMesh, box, read_mesh
+from .solver import ContactPair, ContactProblem, SolverOptions
+
+#: The string that leaves a displacement or traction component unprescribed.
+FREE = "free"
+#: Body names must be usable as file names (results are written to ``<name>.vtu``).
+NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
+#: Body names that would collide with other output files.
+RESERVED_NAMES = ("frame", "summary")
+#: Solver keys of a problem file (the fields of :class:`SolverOptions` but ``progress``).
+SOLVER_KEYS = tuple(f.name for f in dataclasses.fields(SolverOptions) if f.name != "progress")
+_INTEGER_SOLVER_KEYS = ("max_iterations", "load_steps", "threads")
+FRAME_RULES = ("mortar", "collocation")
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A checked problem file.
+
+    Attributes
+    ----------
+    path: the problem file.
+    title: its ``title`` ('' if not given).
+    units: its ``units`` labels (e.g. ``{"length": "mm"}``; not used in any
+        computation: the numbers must already be in one consistent set).
+    bodies: the two :class:`~bemcontact.body.ElasticBody`, in the order of
+        ``contact.bodies`` (body 1 first: the contact normal points from body 1
+        into body 2 and ``normal_force`` is the force body 1 exerts on body 2).
+    pair: the :class:`~bemcontact.solver.ContactPair`.
+    options: the :class:`~bemcontact.solver.SolverOptions`.
+    echo: ``{"file": str(path), **content}``, the file's content as written
+        (JSON-ready; written into ``summary.json``).
+    """
+
+    path: pathlib.Path
+    title: str
+    units: Mapping[str, str]
+    bodies: tuple[ElasticBody, ElasticBody]
+    pair: ContactPair
+    options: SolverOptions
+    echo: dict[str, Any]
+    _contact: ContactProblem = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_contact", ContactProblem(*self.bodies, self.pair))
+
+    def contact_problem(self) -> ContactProblem:
+        """The :class:`~bemcontact.solver.ContactProblem` (the same object on
+        every call, so a frame built while loading is reused by the solve)."""
+        return self._contact
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Problem:
+    """Read and check a problem file.
+
+    Parameters
+    ----------
+    path:
+        The TOML file.  Mesh files named in it are relative to its directory.
+    check_overlap:
+        Also build the contact frame, which finds contact surfaces that do
+        not face each other (reported on ``contact.surfaces``).  The frame is
+        kept and reused by the solve.
+
+    Raises
+    ------
+    ConfigError
+        For every problem with the file, the meshes it names, the materials
+        or the boundary conditions (one-line message, see the module docstring).
+    """
+    p = pathlib.Path(path)
+    src = os.fspath(path)
+    try:
+        with open(p, "rb") as f:
+            content = tomllib.load(f)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{src}: not a valid TOML file: {_one_line(str(exc))}") from None
+    except OSError as exc:
+        raise ConfigError(
+            f"{src}: cannot read the problem file: {exc.strerror or exc}"
+        ) from None
+    return _Reader(src, p.parent).problem(p, content, check_overlap)
+
+
+def _one_line(text: str) -> str:
+    return " ".join(str(text).split())
+
+
+def _short(value: Any, limit: int = 80) -> str:
+    r = repr(value)
+    return r if len(r) <= limit else r[: limit - 3] + "..."
+
+
+def _suggest(word: str, choices: Any) -> str:
+    close = difflib.get_close_matches(str(word), [str(c) for c in choices], n=1, cutoff=0.6)
+    return f"did you mean {close[0]!r}?" if close else ""
+
+
+class _Reader:
+    """Checks one file's content; every method raises ConfigError naming the field."""
+
+    def __init__(self, src: str, base: pathlib.Path) -> None:
+        self.src = src
+        self.base = base
+
+    # ------------------------------------------------------------------ errors
+    def fail(self, where: str, what: str, value: Any, fix: str = "") -> NoReturn:
+        msg = f"{self.src}: {where}: {what}, got {_short(value)}"
+        if fix:
+            msg += f" ({fix})" if fix.startswith("did you mean") else f"; {fix}"
+        raise ConfigError(_one_line(msg))
+
+    def wrap(self, where: str, exc: BemcontactError, value: Any, fix: str = "") -> NoReturn:
+        """Re-raise a library error as a field error (the library's message,
+        without a leading ``<source>: `` of its own, is the 'what')."""
+        text = _one_line(str(exc))
+        for prefix in (f"{self.src}: ", "box: "):
+            if text.startswith(prefix):
+                text = text[len(prefix) :]
+        self.fail(where, text.rstrip("."), value, fix)
+
+    # --------------------------------------------------------------- primitives
+    def table(
+        self, where: str, value: Any, required: tuple[str, ...], optional: tuple[str, ...] = ()
+    ) -> dict[str, Any]:
+        if not isinstance(value, dict):
+            self.fail(where, f"must be a table, not a {_type_name(value)}", value)
+        allowed = required + optional
+        for key in value:
+            if key not in allowed:
+                self.fail(
+                    f"{where}.{key}" if where else key,
+                    "unknown key",
+                    key,
+                    _suggest(key, allowed) or f"allowed keys: {', '.join(allowed)}",
+                )
+        for key in required:
+            if key not in value:
+                self.fail(
+                    f"{where}.{key}" if where else key, "missing required key", value,
+                    f"add {key} = ...",
+                )
+        return value
+
+    def number(
+        self, where: str, value: Any, *, integer: bool = False, lo: float | None = None,
+        lo_open: bool = False, hi: float | None = None, hi_open: bool = False,
+    ) -> Any:
+        kind = "an integer" if integer else "a number"
+        if isinstance(value, bool):
+            self.fail(where, f"must be {kind}, not a boolean", value)
+        if integer:
+            if not isinstance(value, int):
+                whole = isinstance(value, float) and value.is_integer()
+                fix = f"write {int(value)}" if whole else ""
+                self.fail(where, f"must be an integer, not a {_type_name(value)}", value, fix)
+        elif not isinstance(value, (int, float)):
+            self.fail(where, f"must be a number, not a {_type_name(value)}", value)
+        if not math.isfinite(value):
+            self.fail(where, "must be finite", value)
+        if lo is not None and (value <= lo if lo_open else value < lo):
+            self.fail(where, f"must be {'>' if lo_open else '>='} {lo:g}", value)
+        if hi is not None and (value >= hi if hi_open else value > hi):
+            self.fail(where, f"must be {'<' if hi_open else '<='} {hi:g}", value)
+        return value if integer else float(value)
+
+    def string(self, where: str, value: Any, choices: tuple[str, ...] | None = None) -> str:
+        if not isinstance(value, str):
+            self.fail(where, f"must be a string, not a {_type_name(value)}", value)
+        if choices is not None and value not in choices:
+            self.fail(
+                where, f"must be one of {', '.join(choices)}", value, _suggest(value, choices)
+            )
+        return value
+
+    def array(self, where: str, value: Any, length: int) -> list:
+        if not isinstance(value, list):
+            self.fail(
+                where, f"must be an array of {length} values, not a {_type_name(value)}", value
+            )
+        if len(value) != length:
+            self.fail(where, f"must have {length} values, not {len(value)}", value)
+        return value
+
+    def vector(self, where: str, value: Any, *, free: bool = False) -> tuple:
+        out = []
+        for i, c in enumerate(self.array(where, value, 3)):
+            if free and isinstance(c, str):
+                if c != FREE:
+                    self.fail(
+                        f"{where}[{i}]", f'must be a number or "{FREE}"', c, _suggest(c, (FREE,))
+                    )
+                out.append(None)
+            elif free and (isinstance(c, bool) or not isinstance(c, (int, float))):
+                self.fail(
+                    f"{where}[{i}]", f'must be a number or "{FREE}", not a {_type_name(c)}', c
+                )
+            else:
+                out.append(self.number(f"{where}[{i}]", c))
+        return tuple(out)
+
+    # --------------------------------------------------------------- sections
+    def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> Problem:
+        self.table("", content, ("body", "contact"), ("title", "units", "solver"))
+        title = self.string("title", content.get("title", ""))
+        units = self.units(content.get("units", {}))
+        options = self.solver(content.get("solver", {}))
+        raw_bodies = content["body"]
+        if not isinstance(raw_bodies, list) or not all(isinstance(b, dict) for b in raw_bodies):
+            self.fail("body", "must be an array of tables", raw_bodies,
+                      "write each body as a [[body]] section")
+        if len(raw_bodies) != 2:
+            self.fail(
+                "body", f"exactly two [[body]] sections are needed, not {len(raw_bodies)}",
+                [b.get("name") for b in raw_bodies],
+            )
+        names = [self.body_name(i, b) for i, b in enumerate(raw_bodies)]
+        if names[0] == names[1]:
+            self.fail("body[1].name", "duplicate body name (body[0] has it too)", names[1],
+                      "give each body its own name")
+        meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
+        materials = [
+            self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
+        ]
+        order, surfaces, pair = self.contact(content["contact"], names, meshes)
+        bodies = []
+        for i, b in enumerate(raw_bodies):
+            contact_surface = surfaces[order.index(i)]
+            bcs = self.boundary_conditions(
+                f"body[{i}].boundary_conditions", b.get("boundary_conditions", {}), meshes[i],
+                contact_surface, f"contact.surfaces[{order.index(i)}]",
+            )
+            where = f"body[{i}].mesh"
+            try:
+                bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
+            except BemcontactError as exc:  # the closed/oriented surface check
+                self.wrap(where, exc, b["mesh"])
+        ordered = (bodies[order[0]], bodies[order[1]])
+        echo = {"file": str(path), **copy.deepcopy(content)}
+        problem = Problem(path, title, units, ordered, pair, options, echo)
+        if check_overlap:
+            try:
+                problem.contact_problem().frame
+            except ConfigError as exc:
+                self.wrap("contact.surfaces", exc, list(surfaces))
+        return problem
+
+    def units(self, value: Any) -> dict[str, str]:
+        t = self.table("units", value, (), ("length", "force", "stress"))
+        return {k: self.string(f"units.{k}", v) for k, v in t.items()}
+
+    def solver(self, value: Any) -> SolverOptions:
+        t = self.table("solver", value, (), SOLVER_KEYS)
+        kwargs: dict[str, Any] = {}
+        for key, given in t.items():
+            where = f"solver.{key}"
+            if key in _INTEGER_SOLVER_KEYS:
+                v = self.number(where, given, integer=True, lo=1)
+            else:
+                v = self.number(where, given)
+            try:  # the ranges are SolverOptions' own
+                SolverOptions(**{key: v})
+            except ConfigError as exc:
+                text = _one_line(str(exc))
+                text = re.sub(rf"^SolverOptions\.{key} ", "", text)
+                text = re.sub(r", got .*$", "", text)
+                self.fail(where, text, given)
+            kwargs[key] = v
+        return SolverOptions(**kwargs)
+
+    def body_name(self, i: int, b: dict) -> str:
+        where = f"body[{i}]"
+        self.table(where, b, ("name", "mesh", "material"), ("boundary_conditions",))
+        name = self.string(f"{where}.name", b["name"])
+        if not NAME_PATTERN.match(name):
+            self.fail(
+                f"{where}.name",
+                "must start with a letter and hold only letters, digits, '_' and '-' "
+                "(it names the output files)",
+                name,
+            )
+        if name in RESERVED_NAMES:
+            self.fail(f"{where}.name", f"is reserved for an output file ({name}.*)", name,
+                      "choose another name")
+        return name
+
+    def mesh(self, where: str, value: Any) -> SurfaceMesh:
+        t = self.table(where, value, (), ("box", "file", "element_type"))
+        if ("box" in t) == ("file" in t):
+            self.fail(where, "give exactly one of box = {...} or file = \"...\"", value)
+        if "box" in t:
+            if "element_type" in t:
+                self.fail(f"{where}.element_type", "belongs inside box = {...} for a box mesh",
+                          t["element_type"])
+            return self.box(f"{where}.box", t["box"])
+        fwhere = f"{where}.file"
+        name = self.string(fwhere, t["file"])
+        etype = None
+        if "element_type" in t:
+            etype = self.string(f"{where}.element_type", t["element_type"], ELEMENT_TYPES)
+        full = self.base / name
+        if not full.is_file():
+            self.fail(fwhere, f"no such mesh file ({full})", name,
+                      "mesh files are relative to the problem file's directory")
+        try:
+            return read_mesh(full, etype)
+        except BemcontactError as exc:
+            text = _one_line(str(exc))
+            if text.startswith(f"{full}: "):
+                text = text[len(f"{full}: ") :]
+            self.fail(fwhere, f"cannot use the mesh file: {text.rstrip('.')}", name)
+
+    def box(self, where: str, value: Any) -> SurfaceMesh:
+        t = self.table(where, value, ("lower", "upper", "divisions"), ("element_type", "grading"))
+        lo = self.vector(f"{where}.lower", t["lower"])
+        hi = self.vector(f"{where}.upper", t["upper"])
+        for a in range(3):
+            if hi[a] <= lo[a]:
+                self.fail(
+                    f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}", t["upper"][a]
+                )
+        div = t["divisions"]
+        if isinstance(div, list):
+            self.array(f"{where}.divisions", div, 3)
+            for a, d in enumerate(div):
+                self.number(f"{where}.divisions[{a}]", d, integer=True, lo=1)
+        else:
+            self.number(f"{where}.divisions", div, integer=True, lo=1)
+        etype = self.string(f"{where}.element_type", t.get("element_type", "quad4"), ELEMENT_TYPES)
+        grading = t.get("grading", 1.0)
+        if isinstance(grading, list):
+            self.array(f"{where}.grading", grading, 3)
+            grading = [
+                self.number(f"{where}.grading[{a}]", g, lo=0, lo_open=True)
+                for a, g in enumerate(grading)
+            ]
+        else:
+            grading = self.number(f"{where}.grading", grading, lo=0, lo_open=True)
+        try:
+            return box(lo, hi, div, etype, grading)
+        except BemcontactError as exc:
+            self.wrap(where, exc, value)
+
+    def material(self, where: str, value: Any) -> LinearElastic:
+        t = self.table(where, value, ("youngs_modulus", "poisson_ratio"))
+        E = self.number(f"{where}.youngs_modulus", t["youngs_modulus"], lo=0, lo_open=True)
+        nu = self.number(
+            f"{where}.poisson_ratio", t["poisson_ratio"], lo=-1, lo_open=True, hi=0.5, hi_open=True
+        )
+        try:
+            return LinearElastic(youngs_modulus=E, poisson_ratio=nu)
+        except BemcontactError as exc:  # pragma: no cover - the ranges are checked above
+            self.wrap(where, exc, value)
+
+    def boundary_conditions(
+        self, where: str, value: Any, mesh: SurfaceMesh, contact_surface: str, contact_where: str
+    ) -> dict[str, list]:
+        if not isinstance(value, dict):
+            self.fail(where, f"must be a table of regions, not a {_type_name(value)}", value)
+        out: dict[str, list] = {}
+        for region, spec in value.items():
+            rwhere = f"{where}.{region}"
+            if region not in mesh.region_names:
+                self.fail(
+                    rwhere, f"the mesh has no region {region!r} (its regions: "
+                    f"{', '.join(mesh.region_names)})", region,
+                    _suggest(region, mesh.region_names),
+                )
+            if region == contact_surface:
+                self.fail(
+                    rwhere, f"region {region!r} is this body's contact surface ({contact_where}), "
+                    "where the contact decides the tractions", spec, "remove this table",
+                )
+            out[region] = self.condition(rwhere, spec)
+        return out
+
+    def condition(self, where: str, value: Any) -> list:
+        t = self.table(where, value, (), ("displacement", "traction", "pressure"))
+        if not t:
+            self.fail(
+                where, "no condition given (a region without conditions is traction free)",
+                value, "give displacement, traction or pressure, or remove the table",
+            )
+        items: list = []
+        if "pressure" in t:
+            if len(t) > 1:
+                other = next(k for k in t if k != "pressure")
+                self.fail(f"{where}.{other}", "cannot be combined with pressure (a pressure "
+                          "prescribes all three traction components)", t[other])
+            return [Pressure(self.number(f"{where}.pressure", t["pressure"]))]
+        u = s = None
+        if "displacement" in t:
+            u = self.vector(f"{where}.displacement", t["displacement"], free=True)
+        if "traction" in t:
+            s = self.vector(f"{where}.traction", t["traction"], free=True)
+        if u is not None and s is not None:
+            for c in range(3):
+                if u[c] is not None and s[c] is not None:
+                    self.fail(
+                        f"{where}.traction[{c}]",
+                        f"component {'xyz'[c]} is prescribed by both displacement and traction",
+                        t["traction"][c], f'set one of them to "{FREE}"',
+                    )
+        if u is not None:
+            items.append(Displacement(u))
+        if s is not None:
+            items.append(Traction(s))
+        return items
+
+    def contact(
+        self, value: Any, names: list[str], meshes: list[SurfaceMesh]
+    ) -> tuple[tuple[int, int], tuple[str, str], ContactPair]:
+        t = self.table("contact", value, ("surfaces",), ("bodies", "friction_coefficient", "frame"))
+        bodies = t.get("bodies", list(names))
+        self.array("contact.bodies", bodies, 2)
+        order = []
+        for k, b in enumerate(bodies):
+            self.string(f"contact.bodies[{k}]", b)
+            if b not in names:
+                self.fail(
+                    f"contact.bodies[{k}]", f"no body of that name (bodies: {', '.join(names)})",
+                    b, _suggest(b, names),
+                )
+            order.append(names.index(b))
+        if order[0] == order[1]:
+            self.fail("contact.bodies", "the two contact bodies must differ", bodies)
+        surfaces = self.array("contact.surfaces", t["surfaces"], 2)
+        for k, s in enumerate(surfaces):
+            self.string(f"contact.surfaces[{k}]", s)
+            regions = meshes[order[k]].region_names
+            if s not in regions:
+                self.fail(
+                    f"contact.surfaces[{k}]", f"body {bodies[k]!r} has no region {s!r} (its "
+                    f"regions: {', '.join(regions)})", s, _suggest(s, regions),
+                )
+        mu = self.number("contact.friction_coefficient", t.get("friction_coefficient", 0.0), lo=0)
+        rule = self.string("contact.frame", t.get("frame", "mortar"), FRAME_RULES)
+        try:
+            pair = ContactPair(surfaces[0], surfaces[1], friction_coefficient=mu, frame=rule)
+        except BemcontactError as exc:  # pragma: no cover - checked above
+            self.wrap("contact", exc, value)
+        return (order[0], order[1]), (surfaces[0], surfaces[1]), pair
+
+
+def _type_name(value: Any) -> str:
+    return {
+        bool: "boolean", int: "integer", float: "number", str: "string", list: "array",
+        dict: "table",
+    }.get(type(value), type(value).__name__)
+
+
+__all__ = ["Problem", "load_problem", "FREE"]

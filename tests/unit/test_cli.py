@@ -1,0 +1,142 @@
+"""The bemcontact command: exit codes, messages, and what it writes (or not)."""
+
+from __future__ import annotations
+
+import importlib.metadata
+import json
+import subprocess
+import sys
+
+import pytest
+
+import bemcontact as bc
+from bemcontact.cli import main
+
+TINY = """\
+units = {{ length = "mm", force = "N", stress = "MPa" }}
+
+[[body]]
+name = "lower"
+mesh = {{ box = {{ lower = [0, 0, 0], upper = [2, 2, 2], divisions = 1 }} }}
+material = {{ youngs_modulus = {E}, poisson_ratio = 0.3 }}
+[body.boundary_conditions.zmin]
+displacement = [0, 0, 0]
+
+[[body]]
+name = "upper"
+mesh = {{ box = {{ lower = [0, 0, 2], upper = [2, 2, 4], divisions = 1 }} }}
+material = {{ youngs_modulus = 1e4, poisson_ratio = 0.3 }}
+[body.boundary_conditions.zmax]
+displacement = {top}
+
+[contact]
+surfaces = ["zmax", "zmin"]
+friction_coefficient = {mu}
+"""
+
+
+def problem(tmp_path, E="1e4", top="[0, 0, -0.04]", mu="0.1"):
+    p = tmp_path / "tiny.toml"
+    p.write_text(TINY.format(E=E, top=top, mu=mu))
+    return p
+
+
+def test_run_writes_results_and_prints_a_summary(tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["run", str(problem(tmp_path)), "--out", str(out), "--threads", "1"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert captured.err == ""
+    s = json.loads((out / "summary.json").read_text())
+    assert s["converged"] is True and s["names"] == ["lower", "upper"]
+    assert s["problem"]["file"] == str(tmp_path / "tiny.toml")
+    assert f"normal force      {s['normal_force']:.6g} N" in captured.out
+    assert "tangential force" in captured.out
+    assert "lower (zmax, " in captured.out and "stick" in captured.out
+    assert f"results in {out}" in captured.out
+    assert (out / "lower_interface.csv").is_file() and (out / "frame.vtu").is_file()
+
+
+def test_quiet_prints_nothing(tmp_path, capsys):
+    assert main(["run", str(problem(tmp_path)), "--out", str(tmp_path / "o"), "--quiet"]) == 0
+    assert capsys.readouterr().out == ""
+
+
+@pytest.mark.parametrize(
+    "kwargs, field, value",
+    [
+        ({"E": "-1"}, "body[0].material.youngs_modulus", "-1"),
+        ({"mu": "true"}, "contact.friction_coefficient", "True"),
+        ({"top": '["free", "free", "fixed"]'}, "body[1].boundary_conditions.zmax.displacement[2]",
+         "'fixed'"),
+    ],
+)
+def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, kwargs, field, value):
+    out = tmp_path / "out"
+    path = problem(tmp_path, **kwargs)
+    code = main(["run", str(path), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 2
+    assert captured.out == ""
+    lines = captured.err.splitlines()
+    assert len(lines) == 1, captured.err
+    assert lines[0].startswith(f"bemcontact: error: {path}: {field}: ")
+    assert lines[0].endswith(f"got {value}")
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+
+
+def test_missing_problem_file(tmp_path, capsys):
+    assert main(["run", str(tmp_path / "none.toml"), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "none.toml: cannot read the problem file" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_out_is_a_file(tmp_path, capsys):
+    (tmp_path / "o").write_text("x")
+    assert main(["run", str(problem(tmp_path)), "--out", str(tmp_path / "o")]) == 2
+    assert "--out: exists and is not a directory" in capsys.readouterr().err
+
+
+def test_debug_reraises(tmp_path):
+    with pytest.raises(bc.ConfigError, match="youngs_modulus"):
+        main(["run", str(problem(tmp_path, E="0")), "--out", str(tmp_path / "o"), "--debug"])
+
+
+def test_unrestrained_body_exit_3_with_diagnostic_summary(tmp_path, capsys):
+    """Frictionless contact and only a z displacement on the upper cube: it
+    is free to slide and to turn about z, so the Newton matrix is singular."""
+    out = tmp_path / "out"
+    path = problem(tmp_path, top='["free", "free", -0.04]', mu="0")
+    code = main(["run", str(path), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 3
+    assert captured.out == ""
+    assert captured.err.startswith("bemcontact: error: contact solve did not converge")
+    assert "residual history: [" in captured.err
+    assert "states at the last iterate, upper:" in captured.err
+    s = json.loads((out / "summary.json").read_text())
+    assert s["converged"] is False
+    assert "singular" in s["error"]
+    assert s["load_steps"][0]["residual_history"]
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+
+
+def test_version_and_no_command(capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["--version"])
+    assert info.value.code == 0
+    assert capsys.readouterr().out.strip() == f"bemcontact {bc.__version__}"
+    assert main([]) == 2
+    assert "a command is required" in capsys.readouterr().err
+
+
+def test_console_script_and_module_entry_points():
+    (ep,) = importlib.metadata.entry_points(group="console_scripts", name="bemcontact")
+    assert ep.value == "bemcontact.cli:main"
+    out = subprocess.run(
+        [sys.executable, "-m", "bemcontact", "--version"], capture_output=True, text=True,
+        check=True,
+    ).stdout
+    assert out.strip() == f"bemcontact {bc.__version__}"
