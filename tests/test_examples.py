@@ -97,3 +97,33 @@ def test_two_cubes_figure_script_writes_a_png(two_cubes_out):
     # (measured 9.1e-7 mm, 6e-4 of |u_y|); Figure 1b: they differ by |u_y|
     assert v["similar_max_abs_uy_difference"] < 2e-3 * v["similar_lower_max_abs_uy"]
     assert v["dissimilar_max_abs_uy_difference"] > 0.9 * v["dissimilar_lower_max_abs_uy"]
+
+
+# ---------------------------------------------------------------- frame rules, refinement tables
+
+
+def test_patch_test_frame_rules_example():
+    """docs/frame.md's table: the mortar rule passes the patch test to the
+    BEM floor (1e-8, see tests/validation/test_contact_patch.py), the
+    collocation rule fails it (measured pressure error 1.7 on this pair)."""
+    m = load("patch_test_frame_rules")
+    pair = "gmsh tri3 / quad4 6x6"
+    mortar = m.run(pair, "mortar")
+    colloc = m.run(pair, "collocation")
+    assert mortar["condition"] <= 1e-12 and mortar["pressure_error"] <= 1e-8
+    assert mortar["normal_force"] == pytest.approx(40.0, rel=1e-9)
+    assert colloc["condition"] > 1e-2 and colloc["pressure_error"] > 0.1
+
+
+def test_two_cubes_refinement_example():
+    """docs/validation.md's refinement table, coarsest row (n = 3): the
+    similar pair sticks everywhere and matches the column within the 5e-4 of
+    the validation test; the dissimilar pair slips everywhere but the centre
+    node and stays inside the 800-1077 N bounds."""
+    m = load("two_cubes_refinement")
+    sim = m.row(3, 1.0e4)
+    assert sim["stick"] == sim["frame_nodes"] == 9
+    assert sim["normal_force"] == pytest.approx(sim["column_force"], rel=5e-4)
+    dis = m.row(3, 1.0e8)
+    assert (dis["stick"], dis["slip"], dis["stick_extent"]) == (1, 8, 0.0)
+    assert 800 <= dis["normal_force"] <= 1077
