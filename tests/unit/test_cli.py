@@ -140,3 +140,35 @@ def test_console_script_and_module_entry_points():
         check=True,
     ).stdout
     assert out.strip() == f"bemcontact {bc.__version__}"
+
+
+@pytest.mark.parametrize(
+    "old, new, field, value",
+    [
+        # the five classes of bad input named by the contact-solver issue
+        ("friction_coefficient =", "friction_coeficient =", "contact.friction_coeficient",
+         "did you mean 'friction_coefficient'"),
+        ("upper = [2, 2, 2], divisions = 1", "upper = [2, 2, 2], divisions = \"one\"",
+         "body[0].mesh.box.divisions", "'one'"),
+        ("[body.boundary_conditions.zmin]", "[body.boundary_conditions.zbottom]",
+         "body[0].boundary_conditions.zbottom", "zbottom"),
+        ("friction_coefficient = 0.1", "friction_coefficient = -0.1",
+         "contact.friction_coefficient", "-0.1"),
+        ("lower = [0, 0, 2], upper = [2, 2, 4]", "lower = [5, 0, 2], upper = [7, 2, 4]",
+         "contact.surfaces", "do not overlap"),
+    ],
+)
+def test_issue_bad_input_classes(tmp_path, capsys, old, new, field, value):
+    path = problem(tmp_path)
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new, 1))
+    out = tmp_path / "out"
+    code = main(["run", str(path), "--out", str(out)])
+    captured = capsys.readouterr()
+    assert code == 2, captured
+    lines = captured.err.splitlines()
+    assert len(lines) == 1, captured.err
+    assert lines[0].startswith(f"bemcontact: error: {path}: {field}")
+    assert value in lines[0]
+    assert "Traceback" not in captured.err and not out.exists()
