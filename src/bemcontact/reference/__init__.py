@@ -6,10 +6,36 @@ outputs follow the package conventions (docs/theory.md).
 
 from __future__ import annotations
 
+from .contact import (
+    Hertz,
+    boussinesq_punch_force,
+    boussinesq_punch_pressure,
+    cattaneo_mindlin_displacement,
+    cattaneo_mindlin_stick_radius,
+    cattaneo_mindlin_traction,
+    effective_modulus,
+    fretting_loop_energy,
+    hertz,
+    hertz_force,
+    mindlin_deresiewicz_unloading,
+    tangential_compliance_factor,
+)
 from .kelvin import kelvin_displacement, kelvin_stress, kelvin_traction
 from .lame import lame_sphere_radial_displacement, lame_sphere_stress
 
 __all__ = [
+    "Hertz",
+    "boussinesq_punch_force",
+    "boussinesq_punch_pressure",
+    "cattaneo_mindlin_displacement",
+    "cattaneo_mindlin_stick_radius",
+    "cattaneo_mindlin_traction",
+    "effective_modulus",
+    "fretting_loop_energy",
+    "hertz",
+    "hertz_force",
+    "mindlin_deresiewicz_unloading",
+    "tangential_compliance_factor",
     "kelvin_displacement",
     "kelvin_stress",
     "kelvin_traction",
