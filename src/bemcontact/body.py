@@ -305,23 +305,11 @@ class ElasticBody:
         known_u, values = self.boundary_data()
         H, G = self.assemble(threads)
         t1 = time.perf_counter()
-        # b = G t_known - H u_known; A = H with the known-u columns replaced by -G
-        ku = np.flatnonzero(known_u)
-        kt = np.flatnonzero(~known_u)
-        b = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
-        A = H
-        A[:, ku] = -G[:, ku]
+        A, b = self._mixed_system(H, G, known_u, values)
         del G
-        free = ku.size == 0
+        free = not known_u.any()
         if free:
-            R = self.rigid_modes()
-            w3 = np.repeat(d.weights, 3)
-            n = A.shape[0]
-            Ab = np.zeros((n + 6, n + 6))
-            Ab[:n, :n] = A
-            Ab[:n, n:] = R
-            Ab[n:, :n] = (R * w3[:, None]).T
-            A = Ab
+            A = self._bordered(A, self.rigid_modes())
             b = np.concatenate([b, np.zeros(6)])
         x = self._lu_solve(A, b)
         t2 = time.perf_counter()
@@ -340,6 +328,27 @@ class ElasticBody:
             discretization=d,
             timings={"assembly": t1 - t0, "solve": t2 - t1},
         )
+
+    @staticmethod
+    def _mixed_system(H: np.ndarray, G: np.ndarray, known_u: np.ndarray, values: np.ndarray):
+        """(A, b) of the mixed problem A x = b: A is H with the known-u columns
+        replaced by -G (in place over H), b = G t_known - H u_known."""
+        ku = np.flatnonzero(known_u)
+        kt = np.flatnonzero(~known_u)
+        b = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
+        H[:, ku] = -G[:, ku]
+        return H, b
+
+    def _bordered(self, A: np.ndarray, modes: np.ndarray) -> np.ndarray:
+        """[[A, R], [(w R)^T, 0]]: the rigid modes R (3N, k) as extra unknowns,
+        with zero weighted mean of the solution in those modes."""
+        n, k = A.shape[0], modes.shape[1]
+        w3 = np.repeat(self.discretization.weights, 3)
+        Ab = np.zeros((n + k, n + k))
+        Ab[:n, :n] = A
+        Ab[:n, n:] = modes
+        Ab[n:, :n] = (modes * w3[:, None]).T
+        return Ab
 
     def _lu_factor(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """LU factors of A^T (LAPACK getrf, in place over A) with a

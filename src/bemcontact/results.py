@@ -18,6 +18,11 @@ from .body import BodySolution
 from .law import STATE_NAMES
 
 
+def state_counts(state: np.ndarray) -> dict[str, int]:
+    """Number of nodes per state name (open, stick, slip)."""
+    return {name: int(np.count_nonzero(state == i)) for i, name in enumerate(STATE_NAMES)}
+
+
 @dataclass
 class InterfaceResult:
     """Fields at the n contact-surface functional nodes of one body.
@@ -52,7 +57,7 @@ class InterfaceResult:
 
     def counts(self) -> dict[str, int]:
         """Number of nodes per state name."""
-        return {name: int(np.count_nonzero(self.state == i)) for i, name in enumerate(STATE_NAMES)}
+        return state_counts(self.state)
 
 
 @dataclass
@@ -77,7 +82,8 @@ class FrameResult:
     weights: np.ndarray
 
     def counts(self) -> dict[str, int]:
-        return {name: int(np.count_nonzero(self.state == i)) for i, name in enumerate(STATE_NAMES)}
+        """Number of nodes per state name."""
+        return state_counts(self.state)
 
 
 @dataclass

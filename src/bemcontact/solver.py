@@ -183,12 +183,9 @@ def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -
     H, G = body.assemble(threads)
     t1 = time.perf_counter()
     ku = np.flatnonzero(known_u)
-    kt = np.flatnonzero(~known_u)
     Gc = G[:, dofs].copy()
-    b0 = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
-    A = H
-    A[:, ku] = -G[:, ku]
-    del G
+    A, b0 = body._mixed_system(H, G, known_u, values)
+    del G, H
     # rigid modes the supports leave free
     R = body.rigid_modes()
     Rn = R / np.linalg.norm(R, axis=0)
@@ -200,19 +197,11 @@ def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -
     nf = Rf.shape[1]
     n = A.shape[0]
     if nf:
-        w3 = np.repeat(d.weights, 3)
-        Ab = np.zeros((n + nf, n + nf))
-        Ab[:n, :n] = A
-        Ab[:n, n:] = Rf
-        Ab[n:, :n] = (Rf * w3[:, None]).T
-        A = Ab
+        A = body._bordered(A, Rf)
         b0 = np.concatenate([b0, np.zeros(nf)])
         Gc = np.vstack([Gc, np.zeros((nf, Gc.shape[1]))])
-    del H
-    lu, piv = body._lu_factor(A)
-    rhs = np.column_stack([b0, Gc])
-    sol, info = scipy.linalg.lapack.dgetrs(lu, piv, rhs, trans=1)
-    del lu, rhs
+    sol = body._lu_solve(A, np.column_stack([b0, Gc]))
+    del A
     x0 = np.ascontiguousarray(sol[:n, 0])
     X = np.ascontiguousarray(sol[:n, 1:])
     Rf[ku] = 0.0  # exactly zero on supported dofs
