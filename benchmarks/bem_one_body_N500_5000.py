@@ -17,10 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import resource
-import subprocess
 import sys
 import time
 
@@ -93,22 +90,13 @@ def main() -> None:
     if a.one:
         print(json.dumps(one(a.one)))
         return
+    from _common import machine_line, run_one
+
     rows = []
     for s in [int(x) for x in a.sizes.split(",")]:
-        out = subprocess.run(
-            [sys.executable, __file__, "--one", str(s)], capture_output=True, text=True, check=True
-        ).stdout
-        rows.append(json.loads(out.strip().splitlines()[-1]))
+        rows.append(run_one(__file__, s))
         print(f"  done: {s} divisions, {rows[-1]['nodes']} nodes", file=sys.stderr, flush=True)
-    try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-            cwd=os.path.dirname(os.path.abspath(__file__)),
-        ).stdout.strip()
-    except OSError:
-        commit = "unknown"
-    cpu = platform.processor() or platform.machine()
-    print(f"commit {commit}, {os.cpu_count()} cores ({cpu}), Python {platform.python_version()}\n")
+    print(machine_line() + "\n")
     print(
         "| nodes | unknowns | assembly s (2 thr) | assembly s (1 thr) | speed-up | solve s "
         "| peak RSS MB | coeffs/s/core | solve GFLOP/s | lu_factor GFLOP/s | ratio | max rel. error |"

@@ -28,11 +28,8 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import platform
 import resource
 import statistics
-import subprocess
 import sys
 
 
@@ -98,32 +95,18 @@ def main() -> None:
     if a.one:
         print(json.dumps(one(a.one)))
         return
+    from _common import machine_line, run_one
+
     rows = []
     for s in [int(x) for x in a.sizes.split(",")]:
-        runs = []
-        for _ in range(max(1, a.repeat)):
-            out = subprocess.run(
-                [sys.executable, __file__, "--one", str(s)], capture_output=True, text=True, check=True
-            ).stdout
-            runs.append(json.loads(out.strip().splitlines()[-1]))
+        runs = [run_one(__file__, s) for _ in range(max(1, a.repeat))]
         rows.append(_median_row(runs))
         print(
             f"  done: N = {s}, {rows[-1]['nodes']} nodes, total {rows[-1]['total_s']:.2f} s",
             file=sys.stderr, flush=True,
         )
-    try:
-        commit = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-            cwd=os.path.dirname(os.path.abspath(__file__)),
-        ).stdout.strip()
-    except OSError:
-        commit = "unknown"
-    cpu = platform.processor() or platform.machine()
     rep = f", median of {a.repeat} runs per size" if a.repeat > 1 else ""
-    print(
-        f"commit {commit}, {os.cpu_count()} cores ({cpu}), {platform.system()} {platform.release()}, "
-        f"Python {platform.python_version()}{rep}\n"
-    )
+    print(machine_line(rep) + "\n")
     print(
         "| N | nodes | frame nodes | assembly s | condensation s | frame s | Newton it. | Newton s "
         "| Newton % | total s | peak RSS MB | normal force N | stick | slip | open |"

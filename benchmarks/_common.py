@@ -1,0 +1,32 @@
+"""Shared by the benchmark scripts: run one size in a fresh process, and the
+machine / commit line printed above each table."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import subprocess
+import sys
+
+
+def run_one(script: str, size: int) -> dict:
+    """``python SCRIPT --one SIZE`` in its own process (so the peak RSS is
+    that size's); the last stdout line is the row as JSON."""
+    out = subprocess.run(
+        [sys.executable, script, "--one", str(size)], capture_output=True, text=True, check=True
+    ).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def machine_line(extra: str = "") -> str:
+    """``commit <sha>, <n> cores (<cpu>), Python <version><extra>``."""
+    try:
+        commit = subprocess.run(
+            ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+            cwd=os.path.dirname(os.path.abspath(__file__)),
+        ).stdout.strip() or "unknown"
+    except OSError:
+        commit = "unknown"
+    cpu = platform.processor() or platform.machine()
+    return f"commit {commit}, {os.cpu_count()} cores ({cpu}), Python {platform.python_version()}{extra}"
