@@ -6,14 +6,14 @@ Conventions (units, signs, array shapes) are in docs/theory.md.
 
 from __future__ import annotations
 
-from .body import BodySolution, Displacement, ElasticBody, Fixed, Pressure, Traction
+from .body import BodySolution, Displacement, ElasticBody, Fixed, Force, Pressure, Traction
 from .frame import ContactFrame
 from .errors import BemcontactError, ConfigError, ConvergenceError, MaterialError, MeshError
 from .material import LinearElastic
 from .mesh import SurfaceMesh, box, read_mesh
 from .problem import Problem, load_problem
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
-from .solver import ContactPair, ContactProblem, SolverOptions, condense
+from .solver import ContactPair, ContactProblem, LoadStep, SolverOptions, condense
 from .operators import (
     Discretization,
     DiscretizationOptions,
@@ -46,9 +46,11 @@ __all__ = [
     "Traction",
     "Pressure",
     "Fixed",
+    "Force",
     "ContactFrame",
     "ContactPair",
     "ContactProblem",
+    "LoadStep",
     "SolverOptions",
     "condense",
     "ContactResult",

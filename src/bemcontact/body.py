@@ -32,8 +32,10 @@ ComponentValue = Union[float, None]
 FieldValue = Union[Sequence[ComponentValue], Callable[[np.ndarray], Any]]
 
 
-def _check_value(kind: str, value: Any) -> Any:
+def _check_value(kind: str, value: Any, allow_callable: bool = True) -> Any:
     if callable(value):
+        if not allow_callable:
+            raise ConfigError(f"{kind}: value must be 3 components (numbers or None), got a callable")
         return value
     try:
         seq = list(value)
@@ -94,12 +96,39 @@ class Pressure:
             raise ConfigError(f"Pressure: pressure must be a finite number, got {p!r}")
 
 
+@dataclass(frozen=True)
+class Force:
+    """Force control: the prescribed resultant (global x, y, z components,
+    force units) of the tractions on a region that moves as a *rigid
+    translation* in those components (a rigid platen pushed with a given
+    force).  The platen's translation is an unknown of the solve, reported as
+    the region's controlled displacement.  ``None`` leaves a component to
+    other conditions."""
+
+    value: Sequence[ComponentValue]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "value", _check_value("Force", self.value, allow_callable=False))
+
+
 def Fixed() -> Displacement:
     """All displacement components zero (clamped)."""
     return Displacement((0.0, 0.0, 0.0))
 
 
-BoundaryCondition = Union[Displacement, Traction, Pressure]
+BoundaryCondition = Union[Displacement, Traction, Pressure, Force]
+_KINDS = (Displacement, Traction, Pressure, Force)
+
+
+@dataclass(frozen=True)
+class Control:
+    """One force-controlled component of a region: its dofs (indices into the
+    3N unknowns), the prescribed resultant ``force`` and the labels."""
+
+    region: str
+    component: int
+    dofs: np.ndarray
+    force: float
 
 
 @dataclass
@@ -181,8 +210,24 @@ class ElasticBody:
         self.material = material
         self.quadrature = quadrature or QuadratureOptions()
         self.discretization_options = discretization or DiscretizationOptions()
-        self.boundary_conditions: dict[str, tuple[BoundaryCondition, ...]] = {}
-        for region, bcs in (boundary_conditions or {}).items():
+        self.boundary_conditions = self.checked_conditions(boundary_conditions or {})
+        self._disc: Discretization | None = None
+
+    def checked_conditions(
+        self, conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]],
+        where: str = "",
+    ) -> dict[str, tuple[BoundaryCondition, ...]]:
+        """Validate a region -> condition(s) mapping for this body (known
+        regions, known kinds, one prescription per component)."""
+        name = f"{where}{self.name}"
+        mesh = self.mesh
+        if not isinstance(conditions, Mapping):
+            raise ConfigError(
+                f"{name}: boundary conditions must be a mapping region -> condition(s), got "
+                f"{type(conditions).__name__}"
+            )
+        out: dict[str, tuple[BoundaryCondition, ...]] = {}
+        for region, bcs in conditions.items():
             if region not in mesh.region_names:
                 raise ConfigError(
                     f"{name}: boundary condition on unknown region {region!r}; the mesh has "
@@ -191,10 +236,10 @@ class ElasticBody:
             items = tuple(bcs) if isinstance(bcs, (list, tuple)) else (bcs,)
             taken: dict[int, str] = {}
             for bc in items:
-                if not isinstance(bc, (Displacement, Traction, Pressure)):
+                if not isinstance(bc, _KINDS):
                     raise ConfigError(
-                        f"{name}: region {region!r}: {bc!r} is not a Displacement, Traction or "
-                        "Pressure"
+                        f"{name}: region {region!r}: {bc!r} is not a Displacement, Traction, "
+                        "Pressure or Force"
                     )
                 for c in self._components(bc):
                     kind = type(bc).__name__
@@ -204,8 +249,8 @@ class ElasticBody:
                             f"twice ({taken[c]} and {kind}); give each component one condition"
                         )
                     taken[c] = kind
-            self.boundary_conditions[region] = items
-        self._disc: Discretization | None = None
+            out[region] = items
+        return out
 
     @staticmethod
     def _components(bc: BoundaryCondition) -> list[int]:
@@ -221,17 +266,28 @@ class ElasticBody:
             self._disc = discretize(self.mesh, self.discretization_options)
         return self._disc
 
-    def boundary_data(self) -> tuple[np.ndarray, np.ndarray]:
+    def boundary_data(
+        self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(known_u (3N,) bool, values (3N,)): per dof, whether the displacement
-        is prescribed, and the prescribed displacement or traction."""
+        is prescribed, and the prescribed displacement or traction, for this
+        body's conditions or the (checked) ``conditions`` given.  Force-
+        controlled dofs count as known displacement with value 0 here (their
+        common translation is added by the solvers, see :meth:`controls`)."""
         d = self.discretization
         N = d.n_points
         known_u = np.zeros((N, 3), dtype=bool)
         values = np.zeros((N, 3))
-        for region, items in self.boundary_conditions.items():
+        conditions = self.boundary_conditions if conditions is None else conditions
+        for region, items in conditions.items():
             idx = np.flatnonzero(d.region == self.mesh.region_names.index(region))
             X, n = d.points[idx], d.normals[idx]
             for bc in items:
+                if isinstance(bc, Force):
+                    for c in self._components(bc):
+                        known_u[idx, c] = True
+                        values[idx, c] = 0.0
+                    continue
                 if isinstance(bc, Pressure):
                     values[idx] = -bc.pressure * n
                     continue
@@ -269,6 +325,38 @@ class ElasticBody:
                 values[idx] = sub_vals
         return known_u.ravel(), values.ravel()
 
+    def controls(
+        self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None
+    ) -> list[Control]:
+        """The force-controlled components, in region order then x, y, z."""
+        d = self.discretization
+        conditions = self.boundary_conditions if conditions is None else conditions
+        out = []
+        for region, items in conditions.items():
+            idx = np.flatnonzero(d.region == self.mesh.region_names.index(region))
+            for bc in items:
+                if isinstance(bc, Force):
+                    for c in self._components(bc):
+                        out.append(Control(region, c, 3 * idx + c, float(bc.value[c])))
+        return out
+
+    def control_columns(self, H: np.ndarray, controls: Sequence[Control]) -> np.ndarray:
+        """(3N, k): the column of each platen translation U in the mixed
+        system A x + C U = b, i.e. H times a unit translation of the
+        controlled component (take it before :meth:`_mixed_system` reuses H)."""
+        if not controls:
+            return np.zeros((H.shape[0], 0))
+        return np.column_stack([H[:, c.dofs].sum(axis=1) for c in controls])
+
+    def control_rows(self, controls: Sequence[Control]) -> np.ndarray:
+        """(k, 3N): the resultant of the (unknown) tractions on each
+        controlled component, ∫ t_c dS = sum_p w_p t_pc."""
+        w = self.discretization.weights
+        R = np.zeros((len(controls), 3 * self.discretization.n_points))
+        for i, c in enumerate(controls):
+            R[i, c.dofs] = w[c.dofs // 3]
+        return R
+
     def assemble(self, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Influence matrices (H, G) of this body (see
         :func:`~bemcontact.operators.assemble_influence`)."""
@@ -303,18 +391,27 @@ class ElasticBody:
         d = self.discretization
         t0 = time.perf_counter()
         known_u, values = self.boundary_data()
+        controls = self.controls()
         H, G = self.assemble(threads)
         t1 = time.perf_counter()
+        Hc = self.control_columns(H, controls)
         A, b = self._mixed_system(H, G, known_u, values)
         del G
         free = not known_u.any()
         if free:
             A = self._bordered(A, self.rigid_modes())
             b = np.concatenate([b, np.zeros(6)])
+        elif controls:
+            # the platens' translations as extra unknowns, their resultants as rows
+            A = self._border(A, Hc, self.control_rows(controls))
+            b = np.concatenate([b, [c.force for c in controls]])
         x = self._lu_solve(A, b)
         t2 = time.perf_counter()
-        if free:
-            x = x[: 3 * d.n_points]
+        n = 3 * d.n_points
+        if controls:
+            for c, U in zip(controls, x[n:]):
+                values[c.dofs] = U
+        x = x[:n]
         u = np.where(known_u, values, x)
         t = np.where(known_u, x, values)
         return BodySolution(
@@ -342,12 +439,17 @@ class ElasticBody:
     def _bordered(self, A: np.ndarray, modes: np.ndarray) -> np.ndarray:
         """[[A, R], [(w R)^T, 0]]: the rigid modes R (3N, k) as extra unknowns,
         with zero weighted mean of the solution in those modes."""
-        n, k = A.shape[0], modes.shape[1]
         w3 = np.repeat(self.discretization.weights, 3)
+        return self._border(A, modes, (modes * w3[:, None]).T)
+
+    @staticmethod
+    def _border(A: np.ndarray, cols: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """[[A, cols], [rows, 0]] for extra unknowns and their equations."""
+        n, k = A.shape[0], cols.shape[1]
         Ab = np.zeros((n + k, n + k))
         Ab[:n, :n] = A
-        Ab[:n, n:] = modes
-        Ab[n:, :n] = (modes * w3[:, None]).T
+        Ab[:n, n:] = cols
+        Ab[n:, :n] = rows
         return Ab
 
     def _lu_factor(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -381,5 +483,6 @@ __all__ = [
     "Displacement",
     "Traction",
     "Pressure",
+    "Force",
     "Fixed",
 ]

@@ -227,9 +227,16 @@ class ContactFrame:
         *,
         names: tuple[str, str] = ("body 1", "body 2"),
         quadrature_order: int = 6,
+        search_distance: float | None = None,
     ) -> None:
         if rule not in ("mortar", "collocation"):
             raise ConfigError(f"frame rule must be 'mortar' or 'collocation', got {rule!r}")
+        if search_distance is not None and not (
+            isinstance(search_distance, (int, float)) and 0 < search_distance < np.inf
+        ):
+            raise ConfigError(
+                f"frame search_distance must be a finite number > 0 or None, got {search_distance!r}"
+            )
         self.rule = rule
         self.names = names
         s = (_surface(disc1, surface1, names[0]), _surface(disc2, surface2, names[1]))
@@ -237,6 +244,7 @@ class ContactFrame:
             if s[a].elements.size == 0:
                 raise ConfigError(f"{names[a]}: contact surface is empty")
         self._s = s
+        self.search_distance = self._search_distance(search_distance)
         self.owner = self._choose_owner()
         self._build_frame_nodes()
         self._integrate(quadrature_order)
@@ -245,6 +253,18 @@ class ContactFrame:
             self._collocation_coupling()
 
     # ---------------------------------------------------------------- choices
+    def _search_distance(self, given: float | None) -> float:
+        """Largest normal distance at which surface points are paired: the
+        user's value, or a quarter of the largest contact element."""
+        if given is not None:
+            return float(given)
+        sizes = []
+        for sf in self._s:
+            mesh = sf.disc.mesh
+            C = mesh.nodes[mesh.elements[sf.elements, : CORNERS[mesh.element_type]]]
+            sizes.append(float(np.max(C.max(axis=1) - C.min(axis=1))))
+        return 0.25 * max(sizes)
+
     def _choose_owner(self) -> int:
         keys = []
         for sf in self._s:
@@ -297,19 +317,16 @@ class ContactFrame:
         t1, t2 = _tangent_basis(n_o)
         Co = mo.nodes[mo.elements[Eo, :nco]]  # (Eo, nco, 3)
         Ct = mt.nodes[mt.elements[Et, :nct]]
-        # candidate pairs: bounding boxes, inflated by a fraction of the element size
-        lo_o, hi_o = Co.min(axis=1), Co.max(axis=1)
-        lo_t, hi_t = Ct.min(axis=1), Ct.max(axis=1)
-        size = max(float(np.max(hi_o - lo_o)), float(np.max(hi_t - lo_t)))
-        tol = 0.25 * size
-        hit = np.all(
-            (lo_o[:, None, :] - tol <= hi_t[None, :, :]) & (lo_t[None, :, :] - tol <= hi_o[:, None, :]),
-            axis=2,
-        )
+        # candidate pairs: the other element's corners, in the owner element's
+        # plane, overlap its bounding rectangle (inflated by a quarter element)
+        # and lie within the search distance along its normal
+        pairs = _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, self.search_distance)
+        search = self.search_distance
         rule_p, rule_w = _triangle_rule(order)
         fo, ft, zs, ws = [], [], [], []
         same_way = 0
-        for i, j in zip(*np.nonzero(hit)):
+        covered = np.zeros(Eo.size)
+        for i, j in pairs:
             T = np.stack([t1[i], t2[i]], axis=1)  # (3, 2)
             A = (Co[i] - c_o[i]) @ T
             B = (Ct[j] - c_o[i]) @ T
@@ -320,7 +337,7 @@ class ContactFrame:
                 B = B[::-1]
             # skip elements far off the plane, or not facing each other
             # (outward normals of touching faces are opposite)
-            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > tol:
+            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > search:
                 continue
             nt = np.cross(Ct[j][1] - Ct[j][0], Ct[j][2] - Ct[j][0])
             nt /= np.linalg.norm(nt)
@@ -333,6 +350,7 @@ class ContactFrame:
             area = _signed_area(P)
             if area <= 1e-14 * abs(_signed_area(A)):
                 continue
+            covered[i] += area / abs(_signed_area(A))
             for k in range(1, len(P) - 1):
                 a, b, c = P[0], P[k], P[k + 1]
                 ar = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
@@ -354,6 +372,13 @@ class ContactFrame:
                 f"contact surfaces of {self.names[0]} and {self.names[1]} do not overlap: no "
                 "element of one faces an element of the other; check the surface names and "
                 "the positions of the bodies"
+            )
+        if covered.max() > 1 + 1e-6:
+            raise ConfigError(
+                f"contact surfaces of {self.names[0]} and {self.names[1]}: within the search "
+                f"distance {self.search_distance:g}, more than one part of one surface faces "
+                f"the same element of the other (coverage {covered.max():.3g}); give a smaller "
+                "search_distance or narrower contact surfaces"
             )
         fo = np.concatenate(fo)
         ft = np.concatenate(ft)
@@ -414,7 +439,8 @@ class ContactFrame:
         of both bodies (orthogonal projection on the frame element's plane)."""
         own = self._s[self.owner]
         self.projection = tuple(
-            _locate(own.disc, own.elements, sf.disc.points[sf.nodes]) for sf in self._s
+            _locate(own.disc, own.elements, sf.disc.points[sf.nodes], self.search_distance)
+            for sf in self._s
         )
 
     def frame_basis_at(self, a: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -468,27 +494,59 @@ def _signed_area(P: np.ndarray) -> float:
     return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
 
 
-def _locate(disc: Discretization, elements: np.ndarray, points: np.ndarray):
+def _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, search: float, chunk: int = 64):
+    """(i, j) pairs of owner elements i (corners Co (Eo, k, 3), centroid c_o,
+    plane basis t1, t2, n_o) and other elements j (corners Ct) whose corner
+    rectangles overlap in i's plane (inflated by a quarter of the larger
+    element) and whose nearest corner is within ``search`` along n_o[i]."""
+    out = []
+    for s0 in range(0, len(Co), chunk):
+        sl = slice(s0, s0 + chunk)
+        c = c_o[sl][:, None, None, :]
+        T = np.stack([t1[sl], t2[sl], n_o[sl]], axis=2)  # (c, 3, 3)
+        A = np.einsum("ckd,cdl->ckl", Co[sl] - c_o[sl][:, None, :], T)  # (c, k, 3)
+        B = np.einsum("cjkd,cdl->cjkl", Ct[None] - c, T)  # (c, Et, k, 3)
+        alo, ahi = A[..., :2].min(axis=1), A[..., :2].max(axis=1)  # (c, 2)
+        blo, bhi = B[..., :2].min(axis=2), B[..., :2].max(axis=2)  # (c, Et, 2)
+        tol = 0.25 * np.maximum((ahi - alo).max(axis=1)[:, None], (bhi - blo).max(axis=2))
+        hit = np.all(
+            (alo[:, None, :] - tol[..., None] <= bhi) & (blo <= ahi[:, None, :] + tol[..., None]),
+            axis=2,
+        )
+        hit &= np.abs(B[..., 2]).min(axis=2) <= search + tol
+        i, j = np.nonzero(hit)
+        out.append(np.stack([i + s0, j], axis=1))
+    return np.concatenate(out) if out else np.zeros((0, 2), dtype=np.int64)
+
+
+def _locate(disc: Discretization, elements: np.ndarray, points: np.ndarray,
+            search: float | None = None):
     """For each point, the element of ``elements`` whose plane-projection
     contains it (nearest along the normal when several do; the least-outside
-    one when none does): (element (P,), xi (P, 2), inside (P,) bool)."""
+    one when none does), looking no further than ``search`` along the normal
+    (default a quarter of the largest element): (element (P,), xi (P, 2),
+    inside (P,) bool)."""
     mesh = disc.mesh
     nc = CORNERS[mesh.element_type]
     C = mesh.nodes[mesh.elements[elements, :nc]]
     lo, hi = C.min(axis=1), C.max(axis=1)
     size = float(np.max(hi - lo))
-    tol = 0.25 * size
-    cand = np.all(
-        (lo[None] - tol <= points[:, None, :]) & (points[:, None, :] <= hi[None] + tol), axis=2
-    )
-    pi, ei = np.nonzero(cand)
+    if search is None:
+        search = 0.25 * size
+    etype = mesh.element_type
+    cen0 = np.tile(np.array([1 / 3, 1 / 3]) if etype.startswith("tri") else np.zeros(2), (len(elements), 1))
+    c_e, n_e, _ = mesh.map(elements, cen0)
+    t1e, t2e = _tangent_basis(n_e)
+    # candidates: the point inside the element's rectangle in its plane (with a
+    # quarter-element margin) and within the search distance along its normal
+    pairs = _candidate_pairs(C, c_e, t1e, t2e, n_e, points[:, None, :], search)
+    ei, pi = pairs[:, 0], pairs[:, 1]
     P = len(points)
     best_el = np.full(P, elements[0] if len(elements) else -1, dtype=np.int64)
     best_xi = np.zeros((P, 2))
     inside = np.zeros(P, dtype=bool)
     if pi.size == 0:
         return best_el, best_xi, inside
-    etype = mesh.element_type
     cen = np.tile(np.array([1 / 3, 1 / 3]) if etype.startswith("tri") else np.zeros(2), (len(ei), 1))
     _, n, _ = mesh.map(elements[ei], cen)
     t1, t2 = _tangent_basis(n)

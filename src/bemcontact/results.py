@@ -88,15 +88,19 @@ class FrameResult:
 
 @dataclass
 class StepRecord:
-    """One load step: its load factor, Newton iterations and the history of
-    the scaled residual norm max|Phi| / traction scale (one entry per
-    iterate, the first for the starting point)."""
+    """One load increment: its fraction ``load_factor`` of the way from the
+    previous state to step ``step`` (1-based; ``label`` its name), Newton
+    iterations and the history of the scaled residual norm max|Phi| /
+    traction scale (one entry per iterate, the first for the starting
+    point)."""
 
     load_factor: float
     iterations: int
     residual_history: list[float]
     converged: bool
     line_search_steps: list[float] = field(default_factory=list)
+    step: int = 1
+    label: str = ""
 
 
 @dataclass
@@ -116,6 +120,11 @@ class ContactResult:
     interfaces: the two :class:`InterfaceResult`.
     frame: :class:`FrameResult`.
     timings: seconds per stage (assembly, condensation, frame, newton, total).
+    control_displacements: body name -> region -> (3,) translation of each
+        force-controlled region (NaN in components not force controlled).
+    label: the label of the load step this result ends.
+    history: the results at the end of every load step (the last is this
+        one's state); a one-step solve holds just this result.
     """
 
     converged: bool
@@ -129,6 +138,9 @@ class ContactResult:
     interfaces: tuple[InterfaceResult, InterfaceResult]
     frame: FrameResult
     timings: dict[str, float] = field(default_factory=dict)
+    control_displacements: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    label: str = ""
+    history: list = field(default_factory=list)
 
     def reactions(self) -> dict[str, dict[str, np.ndarray]]:
         """Body name -> region -> resultant force (3,) the surroundings
@@ -145,6 +157,8 @@ class ContactResult:
             "contact_force": [float(c) for c in self.contact_force],
             "load_steps": [
                 {
+                    "step": s.step,
+                    "label": s.label,
                     "load_factor": s.load_factor,
                     "iterations": s.iterations,
                     "converged": s.converged,
@@ -160,8 +174,28 @@ class ContactResult:
                 b: {r: [float(c) for c in f] for r, f in regs.items()}
                 for b, regs in self.reactions().items()
             },
+            "control_displacements": _controls_json(self.control_displacements),
+            "history": [
+                {
+                    "label": h.label,
+                    "normal_force": float(h.normal_force),
+                    "tangential_force": float(h.tangential_force),
+                    "contact_force": [float(c) for c in h.contact_force],
+                    "control_displacements": _controls_json(h.control_displacements),
+                    "states": h.frame.counts(),
+                }
+                for h in self.history
+                if h is not self
+            ],
             "timings": {k: float(v) for k, v in self.timings.items()},
         }
+
+
+def _controls_json(controls: dict[str, dict[str, np.ndarray]]) -> dict:
+    return {
+        b: {r: [None if np.isnan(c) else float(c) for c in u] for r, u in regs.items()}
+        for b, regs in controls.items()
+    }
 
 
 __all__ = ["InterfaceResult", "FrameResult", "StepRecord", "ContactResult"]

@@ -16,7 +16,8 @@ import math
 import sys
 import time
 import warnings
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -44,12 +45,21 @@ class ContactPair:
         Frame discretization rule: ``"mortar"`` (default; area-consistent
         coupling, passes the patch test) or ``"collocation"`` (the paper's
         point evaluation of the frame basis at the body nodes; for comparison).
+    search_distance:
+        Largest distance along the normal at which points of the two
+        surfaces are paired (length units).  Bodies that start apart (curved
+        surfaces, an initial gap) need it at least as large as the initial
+        gap anywhere the contact zone may grow to.  Default: a quarter of the
+        largest contact element (enough for surfaces that start in touch).
+        Pairing is by normal projection; the initial gap comes from the
+        geometry.
     """
 
     surface1: str
     surface2: str
     friction_coefficient: float = 0.0
     frame: str = "mortar"
+    search_distance: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("surface1", "surface2"):
@@ -64,6 +74,13 @@ class ContactPair:
         if self.frame not in ("mortar", "collocation"):
             raise ConfigError(
                 f"ContactPair.frame must be 'mortar' or 'collocation', got {self.frame!r}"
+            )
+        d = self.search_distance
+        if d is not None and (
+            isinstance(d, bool) or not isinstance(d, (int, float)) or not math.isfinite(d) or d <= 0
+        ):
+            raise ConfigError(
+                f"ContactPair.search_distance must be a finite number > 0 or None, got {d!r}"
             )
 
 
@@ -132,26 +149,34 @@ class SolverOptions:
 
 @dataclass
 class CondensedBody:
-    """One body reduced to its contact surface (the partitioned step): for
-    contact tractions t_c (3 n_c, interleaved xyz per node) and load factor f,
+    """One body reduced to its contact surface (the partitioned step).  For
+    contact tractions t_c (3 n_c, interleaved xyz per node), load weights
+    ell (S,) over the boundary-condition states, free rigid-mode amplitudes
+    alpha and platen translations U (force control),
 
-        x = f x0 + X t_c + Rf alpha,    u_c = f u0_c + F t_c + Rc alpha
+        x = x0 ell + X t_c + Rf alpha + Y U,   u_c = x[dofs]
 
     where x is the BEM unknown vector (displacement at traction-given dofs,
-    traction at displacement-given dofs), Rf the rigid modes the supports
-    leave free (floating bodies; alpha their amplitudes, fixed by the body's
-    equilibrium), F = X[contact dofs] the interface flexibility.
+    traction at displacement-given dofs), x0 (n, S) the response to each
+    state's boundary data, Rf the rigid modes the supports leave free
+    (floating bodies; alpha fixed by the body's equilibrium), Y the response
+    to a unit translation of each force-controlled component (U fixed by
+    ``C x = forces ell``), F = X[dofs] the interface flexibility.
     """
 
     body: Any
     nodes: np.ndarray
     dofs: np.ndarray
     known_u: np.ndarray
-    values: np.ndarray
-    x0: np.ndarray
+    values: np.ndarray  # (3N, S) boundary values per state
+    x0: np.ndarray  # (n, S)
     X: np.ndarray
     Rf: np.ndarray
-    known_modal_force: np.ndarray  # (nf,) ∫ Rf . t_known dS at load factor 1
+    known_modal_force: np.ndarray  # (nf, S) ∫ Rf . t_known dS per state
+    controls: list
+    Y: np.ndarray  # (n, nc)
+    C: np.ndarray  # (nc, n) resultant rows of the controlled components
+    forces: np.ndarray  # (nc, S) prescribed resultants per state
     timings: dict
 
     @property
@@ -166,14 +191,30 @@ class CondensedBody:
     def Rc(self) -> np.ndarray:
         return self.Rf[self.dofs]
 
+    @property
+    def Yc(self) -> np.ndarray:
+        return self.Y[self.dofs]
 
-def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -> CondensedBody:
+
+def condense(
+    body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None
+) -> CondensedBody:
     """Assemble the body's BEM system once, factor it, and solve for the
     response to unit tractions at each contact dof (``nodes``: the contact
-    functional nodes, which must carry no boundary condition)."""
+    functional nodes, which must carry no boundary condition), to each
+    boundary-condition state in ``states`` (checked condition mappings with
+    the same kind per dof; default: the body's own) and to unit platen
+    translations of the force-controlled components."""
     d = body.discretization
     t0 = time.perf_counter()
-    known_u, values = body.boundary_data()
+    states = [body.boundary_conditions] if states is None else list(states)
+    known_u, _ = body.boundary_data(states[0])
+    controls = body.controls(states[0])
+    data = [body.boundary_data(c) for c in states]
+    values = np.column_stack([v for _, v in data])
+    forces = np.array([[c.force for c in body.controls(st)] for st in states]).reshape(
+        len(states), len(controls)
+    ).T
     dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
     if known_u[dofs].any() or np.any(values[dofs] != 0):
         raise ConfigError(
@@ -183,8 +224,11 @@ def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -
     H, G = body.assemble(threads)
     t1 = time.perf_counter()
     ku = np.flatnonzero(known_u)
+    kt = np.flatnonzero(~known_u)
     Gc = G[:, dofs].copy()
-    A, b0 = body._mixed_system(H, G, known_u, values)
+    Hc = body.control_columns(H, controls)
+    b0 = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]  # (n, S)
+    A, _ = body._mixed_system(H, G, known_u, np.zeros(known_u.size))
     del G, H
     # rigid modes the supports leave free
     R = body.rigid_modes()
@@ -196,28 +240,90 @@ def condense(body: ElasticBody, nodes: np.ndarray, threads: int | None = None) -
     Rf = Rn @ Z
     nf = Rf.shape[1]
     n = A.shape[0]
+    rhs = np.column_stack([b0, Gc, -Hc])
     if nf:
         A = body._bordered(A, Rf)
-        b0 = np.concatenate([b0, np.zeros(nf)])
-        Gc = np.vstack([Gc, np.zeros((nf, Gc.shape[1]))])
-    sol = body._lu_solve(A, np.column_stack([b0, Gc]))
+        rhs = np.vstack([rhs, np.zeros((nf, rhs.shape[1]))])
+    sol = body._lu_solve(A, rhs)
     del A
-    x0 = np.ascontiguousarray(sol[:n, 0])
-    X = np.ascontiguousarray(sol[:n, 1:])
+    S = len(states)
+    x0 = np.ascontiguousarray(sol[:n, :S])
+    X = np.ascontiguousarray(sol[:n, S : S + dofs.size])
+    Y = np.ascontiguousarray(sol[:n, S + dofs.size :])
     Rf[ku] = 0.0  # exactly zero on supported dofs
     # work of the given tractions in the free modes: ∫ Rf . t_known dS
-    modal = np.zeros(nf)
+    modal = np.zeros((nf, S))
     if nf:
-        tk = np.where(known_u, 0.0, values).reshape(-1, 3)
-        _, _, W, tq = d.interpolate(tk)
-        for i in range(nf):
-            _, _, _, rq = d.interpolate(Rf[:, i].reshape(-1, 3))
-            modal[i] = float(np.einsum("eq,eqk,eqk->", W, rq, tq))
+        for s_ in range(S):
+            tk = np.where(known_u, 0.0, values[:, s_]).reshape(-1, 3)
+            _, _, W, tq = d.interpolate(tk)
+            for i in range(nf):
+                _, _, _, rq = d.interpolate(Rf[:, i].reshape(-1, 3))
+                modal[i, s_] = float(np.einsum("eq,eqk,eqk->", W, rq, tq))
     t2 = time.perf_counter()
     return CondensedBody(
-        body, nodes, dofs, known_u, values, x0, X, Rf, modal,
+        body, nodes, dofs, known_u, values, x0, X, Rf, modal, controls, Y,
+        body.control_rows(controls), forces,
         {"assembly": t1 - t0, "condensation": t2 - t1},
     )
+
+
+# --------------------------------------------------------------------------- load steps
+
+
+@dataclass(frozen=True)
+class LoadStep:
+    """One state of a loading history.
+
+    Attributes
+    ----------
+    conditions:
+        Body name -> region -> boundary condition(s) that *change* at this
+        step; every other region keeps its condition of the previous state
+        (the first step starts from the bodies' own conditions).  A step may
+        change values only, not the kind of condition of a component
+        (displacement, traction or force): to apply a tangential force later,
+        give that component ``Force`` with value 0 from the start.
+    increments:
+        The step is reached in this many equal increments, each a linear
+        interpolation between the previous state and this one (friction is
+        path dependent: use several for a path that matters).
+    label:
+        Name used in messages and results.
+
+    The history starts unloaded; slip is measured from the start of each
+    increment, so a stuck point is one with no new slip in it.
+    """
+
+    conditions: Any = field(default_factory=dict)
+    increments: int = 1
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        v = self.increments
+        if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+            raise ConfigError(f"LoadStep.increments must be an integer >= 1, got {v!r}")
+        if not isinstance(self.label, str):
+            raise ConfigError(f"LoadStep.label must be a string, got {self.label!r}")
+        if not isinstance(self.conditions, Mapping) or not all(
+            isinstance(k, str) and isinstance(c, Mapping) for k, c in self.conditions.items()
+        ):
+            raise ConfigError(
+                "LoadStep.conditions must map body names to {region: condition(s)}, got "
+                f"{self.conditions!r}"
+            )
+
+
+_KIND_NAMES = ("traction", "displacement", "force")
+
+
+def _kinds(body: ElasticBody, conditions) -> np.ndarray:
+    """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
+    known_u, _ = body.boundary_data(conditions)
+    k = known_u.astype(np.int8)
+    for c in body.controls(conditions):
+        k[c.dofs] = 2
+    return k
 
 
 # --------------------------------------------------------------------------- problem
@@ -264,6 +370,7 @@ class ContactProblem:
             self._frame = ContactFrame(
                 b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
                 self.pair.frame, names=(b1.name, b2.name),
+                search_distance=self.pair.search_distance,
             )
         return self._frame
 
@@ -273,39 +380,118 @@ class ContactProblem:
             (1 - b.material.poisson_ratio**2) / b.material.youngs_modulus for b in self.bodies
         )
 
+    def states(self, steps) -> list[list[dict]]:
+        """The boundary-condition state reached at each step, per body
+        (checked: known bodies and regions, no condition on a contact
+        surface, the same kind of condition per component throughout)."""
+        names = [b.name for b in self.bodies]
+        surfaces = (self.pair.surface1, self.pair.surface2)
+        current = [dict(b.boundary_conditions) for b in self.bodies]
+        base = [_kinds(b, c) for b, c in zip(self.bodies, current)]
+        out = []
+        for i, step in enumerate(steps):
+            if not isinstance(step, LoadStep):
+                raise ConfigError(f"steps[{i}] must be a LoadStep, got {type(step).__name__}")
+            where = f"step {i + 1}{f' ({step.label})' if step.label else ''}: "
+            current = [dict(c) for c in current]
+            for name, changes in step.conditions.items():
+                if name not in names:
+                    raise ConfigError(f"{where}unknown body {name!r}; the bodies are {names}")
+                a = names.index(name)
+                body = self.bodies[a]
+                checked = body.checked_conditions(changes, where=where)
+                if surfaces[a] in checked:
+                    raise ConfigError(
+                        f"{where}{name}: region {surfaces[a]!r} is the contact surface; it "
+                        "cannot carry a boundary condition"
+                    )
+                current[a].update(checked)
+                kinds = _kinds(body, current[a])
+                diff = np.flatnonzero(kinds != base[a])
+                if diff.size:
+                    dof = int(diff[0])
+                    region = body.mesh.region_names[int(body.discretization.region[dof // 3])]
+                    raise ConfigError(
+                        f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} changes "
+                        f"from {_KIND_NAMES[base[a][dof]]} to {_KIND_NAMES[kinds[dof]]}; a step "
+                        "may change values, not kinds (give the component its later kind from "
+                        "the start, e.g. Force with value 0)"
+                    )
+            out.append(current)
+        return out
+
     def solve(
-        self, options: SolverOptions | None = None, *, raise_on_failure: bool = True
+        self,
+        options: SolverOptions | None = None,
+        *,
+        steps=None,
+        raise_on_failure: bool = True,
     ) -> ContactResult:
-        """Condense both bodies, then run the generalized Newton method per
-        load step.  Raises :class:`ConvergenceError` (carrying the result and
-        its residual history) if a step fails, unless ``raise_on_failure`` is
-        False."""
+        """Condense both bodies, then run the generalized Newton method for
+        each increment of the loading history.
+
+        ``steps``: a sequence of :class:`LoadStep`; default one step to the
+        bodies' own conditions in ``options.load_steps`` proportional
+        increments.  Returns the result at the end of the last step, whose
+        ``history`` lists the results at the end of every step.  Raises
+        :class:`ConvergenceError` (carrying the result so far and its
+        residual history) if an increment fails, unless ``raise_on_failure``
+        is False."""
         opt = options or SolverOptions()
         if not isinstance(opt, SolverOptions):
             raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
+        if steps is None:
+            steps = [LoadStep(increments=opt.load_steps)]
+        steps = list(steps)
+        if not steps:
+            raise ConfigError("steps must hold at least one LoadStep")
+        states = self.states(steps)
         t0 = time.perf_counter()
         frame = self.frame
         t1 = time.perf_counter()
-        cb = tuple(condense(b, frame.nodes(a), opt.threads) for a, b in enumerate(self.bodies))
+        cb = tuple(
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states])
+            for a, b in enumerate(self.bodies)
+        )
         t2 = time.perf_counter()
         system = _InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
         t3 = time.perf_counter()
-        steps: list[StepRecord] = []
+        records: list[StepRecord] = []
+        history: list[ContactResult] = []
         z = system.zero()
         k_prev = system.k_initial_t()
         failed: str | None = None
-        for s in range(1, opt.load_steps + 1):
-            f = s / opt.load_steps
-            k_start = k_prev
-            z, rec, msg = system.newton(z, f, k_prev, opt)
-            steps.append(rec)
-            if msg is not None:
-                failed = f"load step {s}/{opt.load_steps} (factor {f:g}): {msg}"
+        S = len(steps)
+        ell = np.zeros(S)
+        for s_, step in enumerate(steps):
+            prev = ell.copy()
+            target = np.zeros(S)
+            target[s_] = 1.0
+            name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
+            for i in range(1, step.increments + 1):
+                tau = i / step.increments
+                ell = (1 - tau) * prev + tau * target
+                k_start = k_prev
+                z, rec, msg = system.newton(z, ell, k_prev, opt, f"{name} increment {i}")
+                rec.load_factor = tau
+                rec.step = s_ + 1
+                rec.label = step.label
+                records.append(rec)
+                if msg is not None:
+                    failed = f"{name}, increment {i}/{step.increments}: {msg}"
+                    break
+                k_prev = system.k(z, ell)[:, :2].copy()
+            if failed is not None:
                 break
-            k_prev = system.k(z, f)[:, :2].copy()
+            if S > 1:
+                res = system.result(z, ell, k_start, list(records), self.bodies)
+                res.label = step.label
+                history.append(res)
         t4 = time.perf_counter()
-        # states are those of the last step, judged against its starting slip
-        result = system.result(z, f, k_start, steps, self.bodies)
+        # states are those of the last increment, judged against its starting slip
+        result = system.result(z, ell, k_start, records, self.bodies)
+        result.label = steps[len(history) if failed else -1].label
+        result.history = history if S > 1 else [result]
         result.timings = {
             "frame": t1 - t0,
             "assembly": sum(c.timings["assembly"] for c in cb),
@@ -314,7 +500,7 @@ class ContactProblem:
             "total": time.perf_counter() - t0,
         }
         if failed is not None and raise_on_failure:
-            hist = ", ".join(f"{r:.3e}" for r in steps[-1].residual_history)
+            hist = ", ".join(f"{r:.3e}" for r in records[-1].residual_history)
             raise ConvergenceError(
                 f"contact solve did not converge at {failed}; scaled residual history: [{hist}]",
                 result,
@@ -324,7 +510,10 @@ class ContactProblem:
 
 class _InterfaceSystem:
     """The nonsmooth interface system of eq. 17 after condensing both bodies:
-    unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2)."""
+    unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2,
+    U_1, U_2) with alpha the free rigid-mode amplitudes and U the platen
+    translations of force-controlled components.  Loads enter through the
+    weights ell (S,) over the boundary-condition states."""
 
     def __init__(self, frame: ContactFrame, cb, mu: float, r_scale: float) -> None:
         self.frame = frame
@@ -337,14 +526,19 @@ class _InterfaceSystem:
         Q = frame.Q[act]  # (m, 3, 3)
         a = frame.weights[act]
         self.a = a
+        self.area = float(a.sum())
         self.r = r_scale / frame.size[act]  # r_n = r_t = c E*/h_j
         signs = (-1.0, 1.0)
         self.DQ, self.T, self.W = [], [], []
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
-        k0u = np.zeros(3 * m)
+        k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
+        # extra unknowns: per body, alpha then U; L[b] their columns in k
+        self.nf = [c.Rf.shape[1] for c in cb]
+        self.nc = [c.Y.shape[1] for c in cb]
         self.L = []
         self.E = []
+        self.CT = []  # (nc, 3m): resultants of the controlled components per lam
         for i, c in enumerate(cb):
             D = frame.D[i][:, act]  # (n, m)
             n = D.shape[0]
@@ -368,49 +562,63 @@ class _InterfaceSystem:
             k0X += Wm @ X
             k0u += Wm @ c.u0
             self.L.append(Wm @ c.Rc)
+            self.L.append(Wm @ c.Yc)
             # equilibrium in the free rigid modes, scaled to traction units
             self.E.append(c.Rc.T @ DQ)
+            self.CT.append(c.C @ (c.X @ T))
         self.K = K
         self.k0X = k0X
         self.k0u = k0u
-        self.area = float(a.sum())
-        self.nf = [c.Rf.shape[1] for c in cb]
 
     # -- vectors
     def zero(self) -> np.ndarray:
-        return np.zeros(3 * self.m + sum(self.nf))
+        return np.zeros(3 * self.m + sum(self.nf) + sum(self.nc))
 
     def split(self, z):
+        """lam, [alpha_1, U_1, alpha_2, U_2] (the order of self.L)."""
         m3 = 3 * self.m
-        lam = z[:m3]
-        al = (z[m3 : m3 + self.nf[0]], z[m3 + self.nf[0] :])
-        return lam, al
+        parts, o = [], m3
+        for nf, nc in zip(self.nf, self.nc):
+            parts += [z[o : o + nf], z[o + nf : o + nf + nc]]
+            o += nf + nc
+        return z[:m3], parts
 
-    def k(self, z: np.ndarray, f: float) -> np.ndarray:
-        lam, al = self.split(z)
-        kk = self.k0X + f * self.k0u + self.K @ lam
-        for L, a_ in zip(self.L, al):
-            if a_.size:
-                kk = kk + L @ a_
+    def k(self, z: np.ndarray, ell: np.ndarray) -> np.ndarray:
+        lam, parts = self.split(z)
+        kk = self.k0X + self.k0u @ ell + self.K @ lam
+        for L, v in zip(self.L, parts):
+            if v.size:
+                kk = kk + L @ v
         return kk.reshape(-1, 3)
 
     def k_initial_t(self) -> np.ndarray:
         return self.k0X.reshape(-1, 3)[:, :2].copy()
 
-    def residual(self, z, f, k_prev):
-        lam, al = self.split(z)
-        kk = self.k(z, f)
+    def _rows(self, lam, parts, ell):
+        """Linear equations besides the law: free-mode equilibrium and the
+        prescribed resultants of controlled components (traction units)."""
+        out = []
+        for i, c in enumerate(self.cb):
+            if self.nf[i]:
+                out.append((self.E[i] @ lam + c.known_modal_force @ ell) / self.area)
+            if self.nc[i]:
+                U = parts[2 * i + 1]
+                CY = c.C @ c.Y
+                out.append(
+                    (c.C @ (c.x0 @ ell) + self.CT[i] @ lam + CY @ U - c.forces @ ell) / self.area
+                )
+        return out
+
+    def residual(self, z, ell, k_prev):
+        lam, parts = self.split(z)
+        kk = self.k(z, ell)
         phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r).ravel()
-        eq = [
-            (E @ lam + f * c.known_modal_force) / self.area
-            for E, c in zip(self.E, self.cb)
-            if E.shape[0]
-        ]
+        eq = self._rows(lam, parts, ell)
         return np.concatenate([phi, *eq]) if eq else phi
 
-    def jacobian(self, z, f, k_prev):
-        lam, al = self.split(z)
-        kk = self.k(z, f)
+    def jacobian(self, z, ell, k_prev):
+        lam, _ = self.split(z)
+        kk = self.k(z, ell)
         Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r)
         m3 = 3 * self.m
         nz = z.size
@@ -423,16 +631,23 @@ class _InterfaceSystem:
                 J[:m3, col : col + L.shape[1]] = Jk_blk @ L
                 col += L.shape[1]
         row = m3
-        for E in self.E:
-            if E.shape[0]:
-                J[row : row + E.shape[0], :m3] = E / self.area
-                row += E.shape[0]
+        col = m3
+        for i, c in enumerate(self.cb):
+            nf, nc = self.nf[i], self.nc[i]
+            if nf:
+                J[row : row + nf, :m3] = self.E[i] / self.area
+                row += nf
+            if nc:
+                J[row : row + nc, :m3] = self.CT[i] / self.area
+                J[row : row + nc, col + nf : col + nf + nc] = (c.C @ c.Y) / self.area
+                row += nc
+            col += nf + nc
         return J, state
 
-    def newton(self, z, f, k_prev, opt: SolverOptions):
+    def newton(self, z, ell, k_prev, opt: SolverOptions, where: str = ""):
         hist: list[float] = []
         steps: list[float] = []
-        phi = self.residual(z, f, k_prev)
+        phi = self.residual(z, ell, k_prev)
         scale = max(np.abs(phi).max(initial=0.0), np.abs(z[: 3 * self.m]).max(initial=0.0), 1e-300)
         it = 0
         msg = None
@@ -441,13 +656,13 @@ class _InterfaceSystem:
             err = np.abs(phi).max(initial=0.0) / lam_scale
             hist.append(float(err))
             if opt.progress:
-                print(f"  load {f:.3g}  iteration {it:3d}  residual {err:.3e}", file=sys.stderr)
+                print(f"  {where}  iteration {it:3d}  residual {err:.3e}", file=sys.stderr)
             if err <= opt.tolerance:
                 break
             if it >= opt.max_iterations:
                 msg = f"no convergence in {opt.max_iterations} iterations"
                 break
-            J, _ = self.jacobian(z, f, k_prev)
+            J, _ = self.jacobian(z, ell, k_prev)
             try:
                 with warnings.catch_warnings():
                     # exact singularity is diagnosed below, with a better message
@@ -469,7 +684,7 @@ class _InterfaceSystem:
             alpha = 1.0
             while True:
                 zt = z + alpha * dz
-                pt = self.residual(zt, f, k_prev)
+                pt = self.residual(zt, ell, k_prev)
                 if 0.5 * float(pt @ pt) <= (1 - 2 * opt.line_search_sigma * alpha) * psi0:
                     break
                 alpha *= 0.5
@@ -481,14 +696,14 @@ class _InterfaceSystem:
             z, phi = zt, pt
             steps.append(alpha)
             it += 1
-        rec = StepRecord(f, it, hist, msg is None, steps)
+        rec = StepRecord(1.0, it, hist, msg is None, steps)
         return z, rec, msg
 
     # -- results
-    def result(self, z, f, k_prev, steps, bodies) -> ContactResult:
+    def result(self, z, ell, k_prev, steps, bodies) -> ContactResult:
         fr = self.frame
-        lam, al = self.split(z)
-        kk = self.k(z, f)
+        lam, parts = self.split(z)
+        kk = self.k(z, ell)
         lam3 = lam.reshape(-1, 3)
         state_act = law.contact_state(lam3, kk, k_prev, self.mu, self.r, self.r)
         act = self.act
@@ -519,14 +734,23 @@ class _InterfaceSystem:
         Fn = float(F @ nbar)
         Ft = float(np.linalg.norm(F - Fn * nbar))
         sols, ifaces = [], []
+        controlled: dict[str, dict[str, np.ndarray]] = {}
         state_full = frame_res.state
         for i, (c, b) in enumerate(zip(self.cb, bodies)):
             d = b.discretization
             tc = self.T[i] @ lam
-            x = f * c.x0 + c.X @ tc
-            if al[i].size:
-                x = x + c.Rf @ al[i]
-            vals = f * c.values
+            al, U = parts[2 * i], parts[2 * i + 1]
+            x = c.x0 @ ell + c.X @ tc
+            if al.size:
+                x = x + c.Rf @ al
+            if U.size:
+                x = x + c.Y @ U
+            vals = c.values @ ell
+            for ctl, Uk in zip(c.controls, U):
+                vals[ctl.dofs] = Uk
+                controlled.setdefault(b.name, {}).setdefault(
+                    ctl.region, np.full(3, np.nan)
+                )[ctl.component] = Uk
             u = np.where(c.known_u, vals, x)
             t = np.where(c.known_u, x, vals)
             t[c.dofs] = tc
@@ -551,6 +775,7 @@ class _InterfaceSystem:
             names=(bodies[0].name, bodies[1].name),
             interfaces=(ifaces[0], ifaces[1]),
             frame=frame_res,
+            control_displacements=controlled,
         )
 
     def _interface(self, i, c, b, sol, other_sol, frame_state) -> InterfaceResult:
@@ -566,7 +791,7 @@ class _InterfaceSystem:
         other = self.cb[1 - i]
         od = other.body.discretization
         oel = fr.surface_elements(1 - i)
-        el, xi, inside = _locate(od, oel, X)
+        el, xi, inside = _locate(od, oel, X, fr.search_distance)
         xo, _, _ = _geometry(od, el, xi)
         phi = _functional_basis(od, el, xi)
         k = od.mesh.elements.shape[1]
@@ -592,6 +817,7 @@ class _InterfaceSystem:
 
 __all__ = [
     "ContactPair",
+    "LoadStep",
     "SolverOptions",
     "ContactProblem",
     "CondensedBody",

@@ -41,7 +41,7 @@ def test_bad_values():
 def test_wrong_types_at_the_boundary():
     with pytest.raises(bc.ConfigError, match="material must be a LinearElastic, got dict"):
         bc.ElasticBody(bc.box(divisions=1), {"E": 1}, {})
-    with pytest.raises(bc.ConfigError, match="is not a Displacement, Traction or Pressure"):
+    with pytest.raises(bc.ConfigError, match="is not a Displacement, Traction, Pressure or Force"):
         bc.ElasticBody(bc.box(divisions=1), MAT, {"zmin": 0.0})
 
 
@@ -79,3 +79,23 @@ def test_reactions_balance_and_pressure_sign():
     assert np.abs(total).max() < 2e-3 * 10.0
     assert sol.reaction("zmin")[2] == pytest.approx(10.0, rel=2e-3)
     assert sol.displacement[sol.nodes_of("zmax"), 2].mean() < 0
+
+
+def test_force_control_uniform_compression():
+    """A platen pushed with force F on a block on rollers: uniform stress, so
+    the platen's translation is F L / (E A) to the uniform-stress floor of
+    the BEM (1e-8 relative, see tests/validation/test_exact_fields.py) and the
+    rollers carry -F."""
+    F, L = -100.0, 2.0
+    rollers = {
+        "zmin": bc.Displacement((None, None, 0.0)),
+        "xmin": bc.Displacement((0.0, None, None)),
+        "ymin": bc.Displacement((None, 0.0, None)),
+    }
+    body = bc.ElasticBody(bc.box((0, 0, 0), (L, L, L), 3), MAT, {**rollers, "zmax": bc.Force((None, None, F))})
+    sol = body.solve()
+    i = sol.nodes_of("zmax")
+    expected = F * L / (MAT.youngs_modulus * L * L)
+    assert np.allclose(sol.displacement[i, 2], expected, rtol=1e-8)
+    assert sol.reaction("zmax")[2] == pytest.approx(F, rel=1e-12)
+    assert sol.reaction("zmin")[2] == pytest.approx(-F, rel=1e-8)
