@@ -86,7 +86,7 @@ def _run(args: argparse.Namespace) -> int:
         options = problem.options
         if args.threads is not None:
             options = dataclasses.replace(options, threads=args.threads)
-        result = problem.contact_problem().solve(options)
+        result = problem.contact_problem().solve(options, steps=problem.steps or None)
         files = write_results(result, out, problem.echo)
     except ConvergenceError as exc:
         if args.debug:
@@ -114,10 +114,12 @@ def _counts(c: dict[str, int]) -> str:
 def _report(problem, result, out: pathlib.Path, files) -> str:
     force = problem.units.get("force", "")
     unit = f" {force}" if force else ""
-    steps = len(result.steps)
+    steps = len(result.history)
+    increments = len(result.steps)
     lines = [
         f"{problem.path}: converged in {result.newton_iterations} Newton iteration(s), "
-        f"{steps} load step(s), {result.timings.get('total', 0.0):.2f} s",
+        f"{steps} load step(s) in {increments} increment(s), "
+        f"{result.timings.get('total', 0.0):.2f} s",
         f"  normal force      {result.normal_force:.6g}{unit}",
         f"  tangential force  {result.tangential_force:.6g}{unit}",
     ]

@@ -47,11 +47,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, NoReturn
 
-from .body import Displacement, ElasticBody, Pressure, Traction
+from .body import Displacement, ElasticBody, Force, Pressure, Traction
 from .errors import BemcontactError, ConfigError
 from .material import LinearElastic
 from .mesh import ELEMENT_TYPES, SurfaceMesh, box, read_mesh
-from .solver import ContactPair, ContactProblem, SolverOptions
+from .solver import ContactPair, ContactProblem, LoadStep, SolverOptions
 
 #: The string that leaves a displacement or traction component unprescribed.
 FREE = "free"
@@ -80,6 +80,8 @@ class Problem:
         into body 2 and ``normal_force`` is the force body 1 exerts on body 2).
     pair: the :class:`~bemcontact.solver.ContactPair`.
     options: the :class:`~bemcontact.solver.SolverOptions`.
+    steps: the :class:`~bemcontact.solver.LoadStep` history of the
+        ``[[step]]`` sections (empty: one step to the bodies' conditions).
     echo: ``{"file": str(path), **content}``, the file's content as written
         (JSON-ready; written into ``summary.json``).
     """
@@ -91,6 +93,7 @@ class Problem:
     pair: ContactPair
     options: SolverOptions
     echo: dict[str, Any]
+    steps: tuple[LoadStep, ...] = ()
     _contact: ContactProblem = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -256,7 +259,7 @@ class _Reader:
 
     # --------------------------------------------------------------- sections
     def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> Problem:
-        self.table("", content, ("body", "contact"), ("title", "units", "solver"))
+        self.table("", content, ("body", "contact"), ("title", "units", "solver", "step"))
         title = self.string("title", content.get("title", ""))
         units = self.units(content.get("units", {}))
         options = self.solver(content.get("solver", {}))
@@ -292,13 +295,49 @@ class _Reader:
                 self.wrap(where, exc, b["mesh"])
         ordered = (bodies[order[0]], bodies[order[1]])
         echo = {"file": str(path), **copy.deepcopy(content)}
-        problem = Problem(path, title, units, ordered, pair, options, echo)
+        steps = self.steps(content.get("step", []), names, meshes, bodies, surfaces, order)
+        problem = Problem(path, title, units, ordered, pair, options, echo, steps)
+        if steps:
+            try:
+                problem.contact_problem().states(steps)
+            except ConfigError as exc:
+                text = _one_line(str(exc))
+                m = re.match(r"^step (\d+)", text)
+                k = int(m.group(1)) - 1 if m else 0
+                self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
         if check_overlap:
             try:
                 problem.contact_problem().frame
             except ConfigError as exc:
                 self.wrap("contact.surfaces", exc, list(surfaces))
         return problem
+
+    def steps(self, value, names, meshes, bodies, surfaces, order) -> tuple[LoadStep, ...]:
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            self.fail("step", "must be an array of tables", value,
+                      "write each load step as a [[step]] section")
+        out = []
+        for k, raw in enumerate(value):
+            where = f"step[{k}]"
+            t = self.table(where, raw, (), ("label", "increments", "boundary_conditions"))
+            label = self.string(f"{where}.label", t.get("label", ""))
+            inc = self.number(f"{where}.increments", t.get("increments", 1), integer=True, lo=1)
+            bwhere = f"{where}.boundary_conditions"
+            bcs = t.get("boundary_conditions", {})
+            if not isinstance(bcs, dict):
+                self.fail(bwhere, f"must be a table of bodies, not a {_type_name(bcs)}", bcs)
+            changes = {}
+            for name, regions in bcs.items():
+                if name not in names:
+                    self.fail(f"{bwhere}.{name}", f"no body of that name (bodies: "
+                              f"{', '.join(names)})", name, _suggest(name, names))
+                i = names.index(name)
+                changes[name] = self.boundary_conditions(
+                    f"{bwhere}.{name}", regions, meshes[i], surfaces[order.index(i)],
+                    f"contact.surfaces[{order.index(i)}]",
+                )
+            out.append(LoadStep(changes, inc, label))
+        return tuple(out)
 
     def units(self, value: Any) -> dict[str, str]:
         t = self.table("units", value, (), ("length", "force", "stress"))
@@ -430,11 +469,11 @@ class _Reader:
         return out
 
     def condition(self, where: str, value: Any) -> list:
-        t = self.table(where, value, (), ("displacement", "traction", "pressure"))
+        t = self.table(where, value, (), ("displacement", "traction", "pressure", "force"))
         if not t:
             self.fail(
                 where, "no condition given (a region without conditions is traction free)",
-                value, "give displacement, traction or pressure, or remove the table",
+                value, "give displacement, traction, pressure or force, or remove the table",
             )
         items: list = []
         if "pressure" in t:
@@ -443,29 +482,32 @@ class _Reader:
                 self.fail(f"{where}.{other}", "cannot be combined with pressure (a pressure "
                           "prescribes all three traction components)", t[other])
             return [Pressure(self.number(f"{where}.pressure", t["pressure"]))]
-        u = s = None
-        if "displacement" in t:
-            u = self.vector(f"{where}.displacement", t["displacement"], free=True)
-        if "traction" in t:
-            s = self.vector(f"{where}.traction", t["traction"], free=True)
-        if u is not None and s is not None:
-            for c in range(3):
-                if u[c] is not None and s[c] is not None:
-                    self.fail(
-                        f"{where}.traction[{c}]",
-                        f"component {'xyz'[c]} is prescribed by both displacement and traction",
-                        t["traction"][c], f'set one of them to "{FREE}"',
-                    )
-        if u is not None:
-            items.append(Displacement(u))
-        if s is not None:
-            items.append(Traction(s))
+        given = {}
+        for key in ("displacement", "traction", "force"):
+            if key in t:
+                given[key] = self.vector(f"{where}.{key}", t[key], free=True)
+        keys = list(given)
+        for i, a in enumerate(keys):
+            for b in keys[i + 1 :]:
+                for c in range(3):
+                    if given[a][c] is not None and given[b][c] is not None:
+                        self.fail(
+                            f"{where}.{b}[{c}]",
+                            f"component {'xyz'[c]} is prescribed by both {a} and {b}",
+                            t[b][c], f'set one of them to "{FREE}"',
+                        )
+        kinds = {"displacement": Displacement, "traction": Traction, "force": Force}
+        for key, v in given.items():
+            items.append(kinds[key](v))
         return items
 
     def contact(
         self, value: Any, names: list[str], meshes: list[SurfaceMesh]
     ) -> tuple[tuple[int, int], tuple[str, str], ContactPair]:
-        t = self.table("contact", value, ("surfaces",), ("bodies", "friction_coefficient", "frame"))
+        t = self.table(
+            "contact", value, ("surfaces",),
+            ("bodies", "friction_coefficient", "frame", "search_distance"),
+        )
         bodies = t.get("bodies", list(names))
         self.array("contact.bodies", bodies, 2)
         order = []
@@ -490,8 +532,13 @@ class _Reader:
                 )
         mu = self.number("contact.friction_coefficient", t.get("friction_coefficient", 0.0), lo=0)
         rule = self.string("contact.frame", t.get("frame", "mortar"), FRAME_RULES)
+        search = None
+        if "search_distance" in t:
+            search = self.number("contact.search_distance", t["search_distance"], lo=0,
+                                 lo_open=True)
         try:
-            pair = ContactPair(surfaces[0], surfaces[1], friction_coefficient=mu, frame=rule)
+            pair = ContactPair(surfaces[0], surfaces[1], friction_coefficient=mu, frame=rule,
+                               search_distance=search)
         except BemcontactError as exc:  # pragma: no cover - checked above
             self.wrap("contact", exc, value)
         return (order[0], order[1]), (surfaces[0], surfaces[1]), pair

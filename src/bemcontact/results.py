@@ -185,7 +185,6 @@ class ContactResult:
                     "states": h.frame.counts(),
                 }
                 for h in self.history
-                if h is not self
             ],
             "timings": {k: float(v) for k, v in self.timings.items()},
         }

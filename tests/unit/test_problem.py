@@ -144,6 +144,27 @@ def test_mesh_file_relative_to_the_problem_file(tmp_path):
     assert p.bodies[0].mesh.n_elements == 48
 
 
+def test_force_steps_and_search_distance(tmp_path):
+    """force = [...] becomes a Force condition, [[step]] sections LoadSteps in
+    order (changes only, with labels and increments), search_distance the
+    pair's."""
+    text = edit(BASE, "displacement = [0, 0, -0.04]",
+                'displacement = ["free", 0, "free"]\nforce = [0, "free", -10]')
+    text = edit(text, 'frame = "mortar"\n', 'frame = "mortar"\nsearch_distance = 0.5\n'
+                '[[step]]\nlabel = "P"\n'
+                '[[step]]\nlabel = "Q"\nincrements = 4\n'
+                '[step.boundary_conditions.upper.zmax]\n'
+                'displacement = ["free", 0, "free"]\nforce = [2, "free", -10]\n')
+    p = load_problem(write(tmp_path, text))
+    upper = p.bodies[1]
+    assert upper.boundary_conditions["zmax"] == (
+        bc.Displacement((None, 0.0, None)), bc.Force((0.0, None, -10.0)))
+    assert p.pair.search_distance == 0.5
+    assert [(s.label, s.increments) for s in p.steps] == [("P", 1), ("Q", 4)]
+    assert p.steps[0].conditions == {}
+    assert p.steps[1].conditions["upper"]["zmax"][1] == bc.Force((2.0, None, -10.0))
+
+
 # ----------------------------------------------------------------------------- bad input
 
 
@@ -258,6 +279,27 @@ BAD = {
         "mesh = { box = { lower = [0, 0, 0], upper = [2, 2, 2], divisions = 1 } }",
         'mesh = { file = "nowhere.msh" }', "body[0].mesh.file", "'nowhere.msh'",
         "no such mesh file"),
+    "force and displacement on one component": (
+        "displacement = [0, 0, -0.04]", 'displacement = [0, 0, "free"]\nforce = [1, "free", -5]',
+        "body[1].boundary_conditions.zmax.force[0]", "1", "both displacement and force"),
+    "search distance not positive": (
+        'frame = "mortar"', 'frame = "mortar"\nsearch_distance = 0', "contact.search_distance",
+        "0", "must be > 0"),
+    "step with unknown key": (
+        'frame = "mortar"\n', 'frame = "mortar"\n[[step]]\nincrement = 2\n', "step[0].increment",
+        "'increment'", "did you mean 'increments'?"),
+    "step with zero increments": (
+        'frame = "mortar"\n', 'frame = "mortar"\n[[step]]\nincrements = 0\n',
+        "step[0].increments", "0", ">= 1"),
+    "step on an unknown body": (
+        'frame = "mortar"\n',
+        'frame = "mortar"\n[[step]]\n[step.boundary_conditions.uper.zmax]\npressure = 1\n',
+        "step[0].boundary_conditions.uper", "'uper'", "did you mean 'upper'?"),
+    "step changes the kind of a condition": (
+        'frame = "mortar"\n',
+        'frame = "mortar"\n[[step]]\nlabel = "push"\n'
+        '[step.boundary_conditions.upper.zmax]\nforce = [0, 0, -10]\n',
+        "step[0]", "'push'", "component x changes from displacement to force"),
     "non-overlapping contact surfaces": (
         "lower = [0, 0, 2], upper = [2, 2, 4]", "lower = [5, 0, 2], upper = [7, 2, 4]",
         "contact.surfaces", "['zmax', 'zmin']", "do not overlap"),
