@@ -119,7 +119,8 @@ def _inverse_map(
             axis=1,
         )
         xi = xi - dxi
-        if np.abs(dxi).max(initial=0.0) < 1e-15:
+        # converged (NaN: a degenerate projection, left to the caller's checks)
+        if not np.any(np.abs(dxi) >= 1e-14):
             break
     return xi
 
@@ -147,16 +148,16 @@ def _clip(subject: np.ndarray, clip: np.ndarray) -> np.ndarray:
             break
         a, b = clip[i], clip[(i + 1) % n]
         e = b - a
-        s = e[0] * (out[:, 1] - a[1]) - e[1] * (out[:, 0] - a[0])  # > 0 inside (left)
-        nxt = np.roll(out, -1, axis=0)
-        sn = np.roll(s, -1)
+        s = (e[0] * (out[:, 1] - a[1]) - e[1] * (out[:, 0] - a[0])).tolist()  # > 0 inside
         pts = []
-        for j in range(len(out)):
+        k = len(out)
+        for j in range(k):
+            j1 = j + 1 if j + 1 < k else 0
             if s[j] >= 0:
                 pts.append(out[j])
-            if (s[j] >= 0) != (sn[j] >= 0):
-                t = s[j] / (s[j] - sn[j])
-                pts.append(out[j] + t * (nxt[j] - out[j]))
+            if (s[j] >= 0) != (s[j1] >= 0):
+                t = s[j] / (s[j] - s[j1])
+                pts.append(out[j] + t * (out[j1] - out[j]))
         out = np.array(pts).reshape(-1, 2)
     return out
 
@@ -491,7 +492,8 @@ class ContactFrame:
 
 def _signed_area(P: np.ndarray) -> float:
     x, y = P[:, 0], P[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    x1, y1 = x[list(range(1, len(x))) + [0]], y[list(range(1, len(y))) + [0]]
+    return 0.5 * float(x @ y1 - x1 @ y)
 
 
 def _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, search: float, chunk: int = 64):

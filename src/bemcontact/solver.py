@@ -539,6 +539,7 @@ class _InterfaceSystem:
         self.L = []
         self.E = []
         self.CT = []  # (nc, 3m): resultants of the controlled components per lam
+        self.CY = []  # (nc, nc): ... per platen translation
         for i, c in enumerate(cb):
             D = frame.D[i][:, act]  # (n, m)
             n = D.shape[0]
@@ -566,6 +567,17 @@ class _InterfaceSystem:
             # equilibrium in the free rigid modes, scaled to traction units
             self.E.append(c.Rc.T @ DQ)
             self.CT.append(c.C @ (c.X @ T))
+            # a platen translation that strains nothing (the body is held only
+            # by the contact in that direction) has no resultant: make that
+            # exact, so an open contact shows as a singular Newton matrix
+            CY = c.C @ c.Y
+            E = c.body.material.youngs_modulus
+            for k_, ctl in enumerate(c.controls):
+                size = math.sqrt(c.C[k_].sum())
+                if abs(CY[k_, k_]) <= 1e-8 * E * size:
+                    CY[k_, :] = 0.0
+                    CY[:, k_] = 0.0
+            self.CY.append(CY)
         self.K = K
         self.k0X = k0X
         self.k0u = k0u
@@ -603,9 +615,9 @@ class _InterfaceSystem:
                 out.append((self.E[i] @ lam + c.known_modal_force @ ell) / self.area)
             if self.nc[i]:
                 U = parts[2 * i + 1]
-                CY = c.C @ c.Y
                 out.append(
-                    (c.C @ (c.x0 @ ell) + self.CT[i] @ lam + CY @ U - c.forces @ ell) / self.area
+                    (c.C @ (c.x0 @ ell) + self.CT[i] @ lam + self.CY[i] @ U - c.forces @ ell)
+                    / self.area
                 )
         return out
 
@@ -639,7 +651,7 @@ class _InterfaceSystem:
                 row += nf
             if nc:
                 J[row : row + nc, :m3] = self.CT[i] / self.area
-                J[row : row + nc, col + nf : col + nf + nc] = (c.C @ c.Y) / self.area
+                J[row : row + nc, col + nf : col + nf + nc] = self.CY[i] / self.area
                 row += nc
             col += nf + nc
         return J, state
@@ -675,8 +687,9 @@ class _InterfaceSystem:
             if d.min() <= 1e-13 * d.max():
                 msg = (
                     "the Newton matrix is singular: a body is free to move (rigid motion not "
-                    "restrained by supports or by contact) or the contact surfaces do not face "
-                    "each other"
+                    "restrained by supports or by contact; a force-controlled body held only by "
+                    "the contact needs it closed at the start: approach under displacement "
+                    "control) or the contact surfaces do not face each other"
                 )
                 break
             dz = -scipy.linalg.lu_solve(lu, phi)
