@@ -450,7 +450,7 @@ class ContactProblem:
         frame = self.frame
         t1 = time.perf_counter()
         cb = tuple(
-            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states])
+            condense(b, frame.nodes(a)[frame.coupled[a]], opt.threads, [st[a] for st in states])
             for a, b in enumerate(self.bodies)
         )
         t2 = time.perf_counter()
@@ -541,9 +541,11 @@ class _InterfaceSystem:
         self.CT = []  # (nc, 3m): resultants of the controlled components per lam
         self.CY = []  # (nc, nc): ... per platen translation
         for i, c in enumerate(cb):
-            D = frame.D[i][:, act]  # (n, m)
+            # only the contact nodes coupled to the frame carry contact traction
+            sel = frame.coupled[i]
+            D = frame.D[i][sel][:, act]  # (n, m)
             n = D.shape[0]
-            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i]), D)
+            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i][np.ix_(sel, sel)]), D)
             # block (p, j) = coefficient * Q_j  ->  (3n, 3m)
             DQ = signs[i] * np.einsum("pj,jcl->pcjl", D, Q).reshape(3 * n, 3 * m)
             T = signs[i] * np.einsum("pj,jcl->pcjl", MiD, Q).reshape(3 * n, 3 * m)
@@ -559,7 +561,7 @@ class _InterfaceSystem:
                 # point evaluation violates (*): take the initial gap from each
                 # node's offset to the frame surface (the paper's g0), so the
                 # position of the origin does not enter
-                X = frame.offsets(i).ravel()
+                X = frame.offsets(i)[sel].ravel()
             k0X += Wm @ X
             k0u += Wm @ c.u0
             self.L.append(Wm @ c.Rc)
@@ -674,25 +676,36 @@ class _InterfaceSystem:
             if it >= opt.max_iterations:
                 msg = f"no convergence in {opt.max_iterations} iterations"
                 break
-            J, _ = self.jacobian(z, ell, k_prev)
-            try:
-                with warnings.catch_warnings():
-                    # exact singularity is diagnosed below, with a better message
-                    warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-                    lu = scipy.linalg.lu_factor(J, check_finite=True)
-            except (ValueError, np.linalg.LinAlgError) as exc:
-                msg = f"the Newton matrix is not usable ({exc})"
-                break
-            d = np.abs(np.diag(lu[0]))
-            if d.min() <= 1e-13 * d.max():
-                msg = (
-                    "the Newton matrix is singular: a body is free to move (rigid motion not "
-                    "restrained by supports or by contact; a force-controlled body held only by "
-                    "the contact needs it closed at the start: approach under displacement "
-                    "control) or the contact surfaces do not face each other"
-                )
-                break
-            dz = -scipy.linalg.lu_solve(lu, phi)
+            J, state = self.jacobian(z, ell, k_prev)
+            # rows of open nodes read lam = 0 (identity, no coupling): eliminate
+            # them and factor only the closed nodes and the extra unknowns
+            is_open = np.zeros(z.size, dtype=bool)
+            is_open[: 3 * self.m] = np.repeat(state == law.OPEN, 3)
+            keep = np.flatnonzero(~is_open)
+            dz = np.zeros_like(z)
+            dz[is_open] = -phi[is_open]
+            if keep.size:
+                Jkk = J[np.ix_(keep, keep)]
+                rhs = -phi[keep] - J[np.ix_(keep, np.flatnonzero(is_open))] @ dz[is_open]
+                try:
+                    with warnings.catch_warnings():
+                        # exact singularity is diagnosed below, with a better message
+                        warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                        lu = scipy.linalg.lu_factor(Jkk, check_finite=True)
+                except (ValueError, np.linalg.LinAlgError) as exc:
+                    msg = f"the Newton matrix is not usable ({exc})"
+                    break
+                d = np.abs(np.diag(lu[0]))
+                if d.min() <= 1e-13 * d.max():
+                    msg = (
+                        "the Newton matrix is singular: a body is free to move (rigid motion "
+                        "not restrained by supports or by contact; a force-controlled body "
+                        "held only by the contact needs it closed at the start: approach "
+                        "under displacement control) or the contact surfaces do not face "
+                        "each other"
+                    )
+                    break
+                dz[keep] = scipy.linalg.lu_solve(lu, rhs)
             psi0 = 0.5 * float(phi @ phi)
             alpha = 1.0
             while True:
@@ -815,7 +828,7 @@ class _InterfaceSystem:
         slip = du - np.einsum("pc,pc->p", du, n)[:, None] * n
         slip[~inside] = np.nan
         # state: that of the frame node most strongly coupled to the node
-        D = fr.D[i]
+        D = fr.D[i][fr.coupled[i]]
         strongest = np.argmax(np.abs(D), axis=1)
         coupled = np.abs(D).max(axis=1) > 0
         # nodes off the other body's surface are open whatever their coupling
