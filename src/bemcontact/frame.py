@@ -211,10 +211,7 @@ class ContactFrame:
     (t1, t2, n), n from body 1 into body 2.  weights: (m,) a_j = ∫ N_j over
     the common area.  size: (m,) h_j = sqrt(a_j).
     nodes: (n_1,), (n_2,) the contact functional nodes of each body.
-    D: (n_1, m), (n_2, m) coupling matrices.  coupled: per body, (n_a,) bool,
-    the contact nodes with a nonzero row of D (they alone carry contact
-    traction; the rest of a contact surface beyond the search distance is
-    traction free).  M: (n_1, n_1), (n_2, n_2)
+    D: (n_1, m), (n_2, m) coupling matrices.  M: (n_1, n_1), (n_2, n_2)
     consistent interface mass matrices.
     projection: per body, (element of the frame-owner surface, xi) of each
     contact node's projection on the frame (xi_p), and whether it falls on
@@ -255,9 +252,6 @@ class ContactFrame:
         self._project_nodes()
         if rule == "collocation":
             self._collocation_coupling()
-        # contact nodes whose basis function meets the paired area: the
-        # others stay traction free (the solver condenses only these)
-        self.coupled = tuple(np.abs(D).sum(axis=1) > 0 for D in self.D)
 
     # ---------------------------------------------------------------- choices
     def _search_distance(self, given: float | None) -> float:

@@ -450,7 +450,7 @@ class ContactProblem:
         frame = self.frame
         t1 = time.perf_counter()
         cb = tuple(
-            condense(b, frame.nodes(a)[frame.coupled[a]], opt.threads, [st[a] for st in states])
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states])
             for a, b in enumerate(self.bodies)
         )
         t2 = time.perf_counter()
@@ -541,11 +541,11 @@ class _InterfaceSystem:
         self.CT = []  # (nc, 3m): resultants of the controlled components per lam
         self.CY = []  # (nc, nc): ... per platen translation
         for i, c in enumerate(cb):
-            # only the contact nodes coupled to the frame carry contact traction
-            sel = frame.coupled[i]
-            D = frame.D[i][sel][:, act]  # (n, m)
+            # tractions on the whole contact surface (M^-1 D is not local):
+            # exact balance of the two bodies' interface forces
+            D = frame.D[i][:, act]  # (n, m)
             n = D.shape[0]
-            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i][np.ix_(sel, sel)]), D)
+            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i]), D)
             # block (p, j) = coefficient * Q_j  ->  (3n, 3m)
             DQ = signs[i] * np.einsum("pj,jcl->pcjl", D, Q).reshape(3 * n, 3 * m)
             T = signs[i] * np.einsum("pj,jcl->pcjl", MiD, Q).reshape(3 * n, 3 * m)
@@ -561,7 +561,7 @@ class _InterfaceSystem:
                 # point evaluation violates (*): take the initial gap from each
                 # node's offset to the frame surface (the paper's g0), so the
                 # position of the origin does not enter
-                X = frame.offsets(i)[sel].ravel()
+                X = frame.offsets(i).ravel()
             k0X += Wm @ X
             k0u += Wm @ c.u0
             self.L.append(Wm @ c.Rc)
@@ -828,7 +828,7 @@ class _InterfaceSystem:
         slip = du - np.einsum("pc,pc->p", du, n)[:, None] * n
         slip[~inside] = np.nan
         # state: that of the frame node most strongly coupled to the node
-        D = fr.D[i][fr.coupled[i]]
+        D = fr.D[i]
         strongest = np.argmax(np.abs(D), axis=1)
         coupled = np.abs(D).max(axis=1) > 0
         # nodes off the other body's surface are open whatever their coupling

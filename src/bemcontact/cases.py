@@ -1,0 +1,182 @@
+"""Ready-made validation problems and the measures used to compare them with
+their analytic solutions (docs/validation.md).
+
+* :func:`sphere_on_block`: a hemisphere pressed on a block (Hertz; with
+  friction and a tangential platen force, Cattaneo–Mindlin and
+  Mindlin–Deresiewicz).  Meshes from :mod:`bemcontact.geometry`, graded
+  toward the contact point.
+* :func:`radial_profile`, :func:`hertz_errors`, :func:`stick_radius`,
+  :func:`weighted_l2`: what the validation tests, the example and the
+  benchmark measure, defined once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import geometry
+from .body import Displacement, ElasticBody, Fixed, Force
+from .errors import ConfigError
+from .law import STICK
+from .material import LinearElastic
+from .reference.contact import Hertz
+from .results import FrameResult
+from .solver import ContactPair, ContactProblem, LoadStep
+
+
+@dataclass(frozen=True)
+class SphereOnBlock:
+    """Sizes and materials of :func:`sphere_on_block` (defaults: steel on
+    steel, R = 10 mm, a ≈ 0.55 mm at the default approach, so a/R ≈ 0.055
+    and a/L ≈ 0.055 for the 20 × 20 × 10 mm block)."""
+
+    radius: float = 10.0
+    youngs_modulus: float = 210000.0
+    poisson_ratio: float = 0.3
+    block_half_width: float = 10.0
+    block_depth: float = 10.0
+    fine_radius: float = 0.7
+    coarse_size: float = 2.5
+    search_distance: float = 0.05
+
+    @property
+    def contact_modulus(self) -> float:
+        return self.youngs_modulus / (2.0 * (1.0 - self.poisson_ratio**2))
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+
+def platen(approach: float, tangential_force: float = 0.0) -> list:
+    """Conditions on the sphere's flat base: pushed down by ``approach``
+    (displacement control), held in y, and force controlled in x with
+    ``tangential_force`` (the Cattaneo–Mindlin loading Q)."""
+    return [
+        Displacement((None, 0.0, -float(approach))),
+        Force((float(tangential_force), None, None)),
+    ]
+
+
+def sphere_on_block(
+    fine_size: float,
+    approach: float = 0.03,
+    friction_coefficient: float = 0.0,
+    setup: SphereOnBlock | None = None,
+    order: int = 1,
+) -> ContactProblem:
+    """A hemisphere (body ``sphere``, apex at the origin, flat base at
+    z = R) on a block (body ``block``, top face z = 0, base clamped), both
+    meshed with element size ``fine_size`` within ``setup.fine_radius`` of
+    the contact point.  The sphere's base is a rigid platen (see
+    :func:`platen`; change its values with :class:`LoadStep`\\ s
+    ``{"sphere": {"base": platen(...)}}``).  Identical materials, so the
+    normal and tangential problems decouple (Cattaneo–Mindlin's setting)."""
+    s = setup or SphereOnBlock()
+    if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
+        raise ConfigError(
+            f"sphere_on_block: fine_size must be in (0, fine_radius = {s.fine_radius:g}], "
+            f"got {fine_size!r}"
+        )
+    w, d = s.block_half_width, s.block_depth
+    blk = geometry.graded_block(
+        (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=fine_size,
+        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+    )
+    cap = geometry.spherical_cap(
+        s.radius, s.radius, apex=(0.0, 0.0, 0.0), axis=1, fine_size=fine_size,
+        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+    )
+    mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
+    block = ElasticBody(blk, mat, {"zmin": Fixed()}, name="block")
+    sphere = ElasticBody(cap, mat, {"base": platen(approach)}, name="sphere")
+    pair = ContactPair("zmax", "contact", friction_coefficient, search_distance=s.search_distance)
+    return ContactProblem(block, sphere, pair)
+
+
+def tangential_steps(forces, increments: int = 2, label: str = "Q") -> list[LoadStep]:
+    """Load steps of :func:`sphere_on_block` that change the platen's
+    tangential force to each value of ``forces`` in turn (the approach kept)."""
+    return [
+        LoadStep({"sphere": {"base": [Displacement((None, 0.0, None)), Force((q, None, None))]}},
+                 increments, f"{label}={q:.6g}")
+        for q in forces
+    ]
+
+
+# --------------------------------------------------------------------------- measures
+
+
+def radial_profile(frame: FrameResult, center=(0.0, 0.0)) -> tuple[np.ndarray, ...]:
+    """(r, pressure, q_x, weights, state) at the frame nodes, r the distance
+    from ``center`` in the x-y plane, q_x the x traction on body 1 (the
+    block), sorted by r."""
+    r = np.hypot(frame.points[:, 0] - center[0], frame.points[:, 1] - center[1])
+    o = np.argsort(r, kind="stable")
+    # the frame's traction acts on body 2; body 1 receives the opposite
+    return r[o], frame.pressure[o], -frame.tangential_traction[o, 0], frame.weights[o], frame.state[o]
+
+
+def weighted_l2(values, exact, weights) -> float:
+    """sqrt(sum w (v - e)^2 / sum w e^2): the relative L2 error of nodal
+    values with the frame's nodal weights as quadrature."""
+    v, e, w = (np.asarray(x, dtype=float) for x in (values, exact, weights))
+    return float(np.sqrt(np.sum(w * (v - e) ** 2) / np.sum(w * e**2)))
+
+
+@dataclass(frozen=True)
+class HertzErrors:
+    """Relative errors of a computed pressure field against Hertz for the
+    computed force: contact radius (from a least-squares fit of
+    p^2 = p0^2 (1 - r^2/a^2) on r < 0.9 a), peak pressure (largest nodal
+    pressure) and the profile's weighted L2 error on r < 0.9 a."""
+
+    contact_radius: float
+    peak_pressure: float
+    profile_l2: float
+    fitted_radius: float
+    fitted_peak: float
+
+
+def hertz_errors(frame: FrameResult, h: Hertz, center=(0.0, 0.0)) -> HertzErrors:
+    r, p, _, w, _ = radial_profile(frame, center)
+    a = h.contact_radius
+    inner = r < 0.9 * a
+    A = np.column_stack([np.ones(inner.sum()), r[inner] ** 2])
+    c, *_ = np.linalg.lstsq(A, p[inner] ** 2, rcond=None)
+    p0 = float(np.sqrt(max(c[0], 0.0)))
+    af = float(np.sqrt(-c[0] / c[1])) if c[1] < 0 else np.inf
+    return HertzErrors(
+        contact_radius=af / a - 1.0,
+        peak_pressure=float(p.max()) / h.peak_pressure - 1.0,
+        profile_l2=weighted_l2(p[inner], h.pressure(r[inner]), w[inner]),
+        fitted_radius=af,
+        fitted_peak=p0,
+    )
+
+
+def stick_radius(frame: FrameResult) -> float:
+    """Radius of the circle with the area of the stuck frame nodes
+    (sqrt(sum of their weights / pi))."""
+    return float(np.sqrt(frame.weights[frame.state == STICK].sum() / np.pi))
+
+
+def fitted_rate(sizes, errors) -> float:
+    """Slope of log(error) against log(size) (least squares)."""
+    return float(np.polyfit(np.log(sizes), np.log(np.abs(errors)), 1)[0])
+
+
+__all__ = [
+    "SphereOnBlock",
+    "sphere_on_block",
+    "platen",
+    "tangential_steps",
+    "radial_profile",
+    "weighted_l2",
+    "HertzErrors",
+    "hertz_errors",
+    "stick_radius",
+    "fitted_rate",
+]
