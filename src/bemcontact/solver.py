@@ -17,7 +17,7 @@ import sys
 import time
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -208,9 +208,9 @@ def condense(
     d = body.discretization
     t0 = time.perf_counter()
     states = [body.boundary_conditions] if states is None else list(states)
-    known_u, _ = body.boundary_data(states[0])
-    controls = body.controls(states[0])
     data = [body.boundary_data(c) for c in states]
+    known_u = data[0][0]  # the same for every state (checked by ContactProblem.states)
+    controls = body.controls(states[0])
     values = np.column_stack([v for _, v in data])
     forces = np.array([[c.force for c in body.controls(st)] for st in states]).reshape(
         len(states), len(controls)
