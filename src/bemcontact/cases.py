@@ -96,12 +96,14 @@ def sphere_on_block(
     return ContactProblem(block, sphere, pair)
 
 
-def tangential_steps(forces, increments: int = 2, label: str = "Q") -> list[LoadStep]:
+def tangential_steps(
+    forces, approach: float = 0.03, increments: int = 2, label: str = "Q"
+) -> list[LoadStep]:
     """Load steps of :func:`sphere_on_block` that change the platen's
-    tangential force to each value of ``forces`` in turn (the approach kept)."""
+    tangential force to each value of ``forces`` in turn, the approach held
+    at ``approach`` (pass the value the problem was built with)."""
     return [
-        LoadStep({"sphere": {"base": [Displacement((None, 0.0, None)), Force((q, None, None))]}},
-                 increments, f"{label}={q:.6g}")
+        LoadStep({"sphere": {"base": platen(approach, q)}}, increments, f"{label}={q:.6g}")
         for q in forces
     ]
 

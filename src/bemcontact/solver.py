@@ -109,6 +109,13 @@ class SolverOptions:
         sigma in Psi(w + a dw) <= (1 - 2 sigma a) Psi(w).
     min_step:
         Smallest line-search step before giving up.
+    watchdog:
+        Full Newton steps tried without a decrease of the residual before
+        going back to the best point and searching along its direction (a
+        watchdog non-monotone line search; 0 = monotone line search on every
+        step).  Stick-to-slip transitions make the residual rise for a few
+        full steps on the way to the solution; a monotone search then takes
+        tiny steps (tens of iterations instead of a handful).
     threads:
         OpenMP threads for assembly (default: all).
     progress:
@@ -121,6 +128,7 @@ class SolverOptions:
     penalty: float = 1.0
     line_search_sigma: float = 1e-4
     min_step: float = 2.0**-20
+    watchdog: int = 5
     threads: int | None = None
     progress: bool = False
 
@@ -138,6 +146,9 @@ class SolverOptions:
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ConfigError(f"SolverOptions.{name} must be an integer >= 1, got {v!r}")
+        v = self.watchdog
+        if isinstance(v, bool) or not isinstance(v, int) or v < 0:
+            raise ConfigError(f"SolverOptions.watchdog must be an integer >= 0, got {v!r}")
         if self.threads is not None and (
             isinstance(self.threads, bool) or not isinstance(self.threads, int) or self.threads < 1
         ):
@@ -583,6 +594,25 @@ class _InterfaceSystem:
         self.K = K
         self.k0X = k0X
         self.k0u = k0u
+        self._located: dict[int, tuple] = {}
+        # dk/dz (3m, nz) and the linear rows besides the law (ne, nz)
+        self._dk = np.hstack([K, *[L for L in self.L if L.shape[1]]])
+        m3, nz = 3 * m, self._dk.shape[1]
+        eq = []
+        col = m3
+        for i in range(len(cb)):
+            nf, nc = self.nf[i], self.nc[i]
+            if nf:
+                r = np.zeros((nf, nz))
+                r[:, :m3] = self.E[i] / self.area
+                eq.append(r)
+            if nc:
+                r = np.zeros((nc, nz))
+                r[:, :m3] = self.CT[i] / self.area
+                r[:, col + nf : col + nf + nc] = self.CY[i] / self.area
+                eq.append(r)
+            col += nf + nc
+        self._eq = np.vstack(eq) if eq else np.zeros((0, nz))
 
     # -- vectors
     def zero(self) -> np.ndarray:
@@ -631,32 +661,27 @@ class _InterfaceSystem:
         return np.concatenate([phi, *eq]) if eq else phi
 
     def jacobian(self, z, ell, k_prev):
+        """The rows of the generalized Jacobian that are not those of open
+        nodes (an open node's row is the identity: lam_j = 0), with every
+        column: returns ``(J[rows], rows, state)``."""
         lam, _ = self.split(z)
         kk = self.k(z, ell)
         Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r)
-        m3 = 3 * self.m
-        nz = z.size
-        J = np.zeros((nz, nz))
-        Jk_blk = scipy.sparse.block_diag(list(Jk), format="csr") if self.m else None
-        J[:m3, :m3] = scipy.sparse.block_diag(list(Jl)).toarray() + Jk_blk @ self.K
-        col = m3
-        for L in self.L:
-            if L.shape[1]:
-                J[:m3, col : col + L.shape[1]] = Jk_blk @ L
-                col += L.shape[1]
-        row = m3
-        col = m3
-        for i, c in enumerate(self.cb):
-            nf, nc = self.nf[i], self.nc[i]
-            if nf:
-                J[row : row + nf, :m3] = self.E[i] / self.area
-                row += nf
-            if nc:
-                J[row : row + nc, :m3] = self.CT[i] / self.area
-                J[row : row + nc, col + nf : col + nf + nc] = self.CY[i] / self.area
-                row += nc
-            col += nf + nc
-        return J, state
+        m3, nz = 3 * self.m, z.size
+        closed = np.flatnonzero(state != law.OPEN)
+        cdofs = (3 * closed[:, None] + np.arange(3)).ravel()
+        rows = np.concatenate([cdofs, np.arange(m3, nz)])
+        J = np.empty((rows.size, nz))
+        mc = closed.size
+        # law rows of closed nodes: Jl_j on the diagonal block + Jk_j (dk_j/dz)
+        J[: 3 * mc] = np.einsum(
+            "jab,jbn->jan", Jk[closed], self._dk[cdofs].reshape(mc, 3, nz)
+        ).reshape(3 * mc, nz)
+        diag = J[: 3 * mc].reshape(mc, 3, nz)
+        cols = 3 * closed[:, None, None] + np.arange(3)[None, None, :]
+        np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None], cols), Jl[closed])
+        J[3 * mc :] = self._eq
+        return J, rows, state
 
     def newton(self, z, ell, k_prev, opt: SolverOptions, where: str = ""):
         hist: list[float] = []
@@ -665,6 +690,8 @@ class _InterfaceSystem:
         scale = max(np.abs(phi).max(initial=0.0), np.abs(z[: 3 * self.m]).max(initial=0.0), 1e-300)
         it = 0
         msg = None
+        best = None  # watchdog reference: (z, merit, Newton direction)
+        trial = 0
         while True:
             lam_scale = max(scale, np.abs(z[: 3 * self.m]).max(initial=0.0))
             err = np.abs(phi).max(initial=0.0) / lam_scale
@@ -676,17 +703,16 @@ class _InterfaceSystem:
             if it >= opt.max_iterations:
                 msg = f"no convergence in {opt.max_iterations} iterations"
                 break
-            J, state = self.jacobian(z, ell, k_prev)
+            J, keep, state = self.jacobian(z, ell, k_prev)
             # rows of open nodes read lam = 0 (identity, no coupling): eliminate
             # them and factor only the closed nodes and the extra unknowns
-            is_open = np.zeros(z.size, dtype=bool)
-            is_open[: 3 * self.m] = np.repeat(state == law.OPEN, 3)
-            keep = np.flatnonzero(~is_open)
+            is_open = np.ones(z.size, dtype=bool)
+            is_open[keep] = False
             dz = np.zeros_like(z)
             dz[is_open] = -phi[is_open]
             if keep.size:
-                Jkk = J[np.ix_(keep, keep)]
-                rhs = -phi[keep] - J[np.ix_(keep, np.flatnonzero(is_open))] @ dz[is_open]
+                Jkk = J[:, keep]
+                rhs = -phi[keep] - J @ dz  # dz holds only the open rows yet
                 try:
                     with warnings.catch_warnings():
                         # exact singularity is diagnosed below, with a better message
@@ -706,19 +732,32 @@ class _InterfaceSystem:
                     )
                     break
                 dz[keep] = scipy.linalg.lu_solve(lu, rhs)
-            psi0 = 0.5 * float(phi @ phi)
-            alpha = 1.0
-            while True:
-                zt = z + alpha * dz
+            psi = 0.5 * float(phi @ phi)
+            if best is None or psi <= (1 - 2 * opt.line_search_sigma) * best[1]:
+                # sufficient decrease since the reference point: it becomes the new one
+                best, trial = (z, psi, dz), 0
+            if trial < opt.watchdog:
+                # watchdog: a full step, judged by the next iterations
+                zt, alpha = z + dz, 1.0
                 pt = self.residual(zt, ell, k_prev)
-                if 0.5 * float(pt @ pt) <= (1 - 2 * opt.line_search_sigma * alpha) * psi0:
-                    break
-                alpha *= 0.5
+                trial += 1
+            else:
+                # no decrease within the watchdog's steps: back to the reference
+                # point, monotone line search along its Newton direction
+                z0, psi0, d0 = best
+                alpha = 1.0 if opt.watchdog == 0 else 0.5
+                while True:
+                    zt = z0 + alpha * d0
+                    pt = self.residual(zt, ell, k_prev)
+                    if 0.5 * float(pt @ pt) <= (1 - 2 * opt.line_search_sigma * alpha) * psi0:
+                        break
+                    alpha *= 0.5
+                    if alpha < opt.min_step:
+                        break
                 if alpha < opt.min_step:
+                    msg = "line search failed (no decrease of the residual along the Newton direction)"
                     break
-            if alpha < opt.min_step:
-                msg = "line search failed (no decrease of the residual along the Newton direction)"
-                break
+                best, trial = None, 0
             z, phi = zt, pt
             steps.append(alpha)
             it += 1
@@ -817,9 +856,12 @@ class _InterfaceSystem:
         other = self.cb[1 - i]
         od = other.body.discretization
         oel = fr.surface_elements(1 - i)
-        el, xi, inside = _locate(od, oel, X, fr.search_distance)
-        xo, _, _ = _geometry(od, el, xi)
-        phi = _functional_basis(od, el, xi)
+        if i not in self._located:
+            # where each node sits on the other surface: geometry only, once
+            el, xi, inside = _locate(od, oel, X, fr.search_distance)
+            xo, _, _ = _geometry(od, el, xi)
+            self._located[i] = (el, inside, xo, _functional_basis(od, el, xi))
+        el, inside, xo, phi = self._located[i]
         k = od.mesh.elements.shape[1]
         uo = np.einsum("pk,pkc->pc", phi, other_sol.displacement[od.fconn[el, :k]])
         rel = (xo + uo) - (X + u)

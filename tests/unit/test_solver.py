@@ -129,3 +129,47 @@ def test_step_input_errors():
         prob.solve(steps=[])
     with pytest.raises(bc.ConfigError, match="Force: value must be 3 components"):
         bc.Force(lambda x: x)
+
+
+def test_newton_matrix_matches_central_differences():
+    """The rows of the interface system's generalized Jacobian that Newton
+    factors (closed nodes, free-mode and platen-force rows; every column,
+    including the platen translation's) equal central differences of the
+    residual at a partial-slip point, to 1e-6 of the largest entry (the
+    difference step's truncation error; a wrong block is off by O(1))."""
+    from bemcontact import law, solver
+
+    prob = _problem()
+    steps = [bc.LoadStep(label="P"), _q(68.0)]
+    states = prob.states(steps)
+    frame = prob.frame
+    cb = tuple(
+        solver.condense(b, frame.nodes(a), 1, [st[a] for st in states])
+        for a, b in enumerate(prob.bodies)
+    )
+    system = solver._InterfaceSystem(frame, cb, MU, prob.contact_modulus())
+    opt = bc.SolverOptions()
+    z, rec, msg = system.newton(system.zero(), np.array([1.0, 0.0]), system.k_initial_t(), opt)
+    assert msg is None
+    ell = np.array([0.0, 1.0])
+    k_prev = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
+    z, _, msg = system.newton(z, ell, k_prev, bc.SolverOptions(max_iterations=2))
+    z[[2, 3 * 5 + 2]] = -P  # two nodes pulled open (flat blocks: all closed otherwise)
+    J, rows, state = system.jacobian(z, ell, k_prev)
+    counts = np.bincount(state, minlength=3)
+    assert counts[law.STICK] > 0 and counts[law.SLIP] > 0 and counts[law.OPEN] > 0
+    assert system.nc == [0, 2]  # the platen's x and z translations are columns
+    m3 = 3 * system.m
+    assert np.array_equal(rows[: rows.size - (z.size - m3)] // 3, np.repeat(np.flatnonzero(state != 0), 3))
+    lam_scale = np.abs(z[:m3]).max()
+    Jfd = np.empty_like(J)
+    for j in range(z.size):
+        eps = 1e-6 * lam_scale if j < m3 else 1e-6 * np.abs(z[j])
+        e = np.zeros_like(z)
+        e[j] = eps
+        Jfd[:, j] = (system.residual(z + e, ell, k_prev) - system.residual(z - e, ell, k_prev))[rows] / (2 * eps)
+    assert np.abs(J - Jfd).max() <= 1e-6 * np.abs(J).max()
+    # and open rows of the full residual are lam_j itself (identity rows)
+    open_rows = np.setdiff1d(np.arange(z.size), rows)
+    phi = system.residual(z, ell, k_prev)
+    assert np.array_equal(phi[open_rows], z[open_rows])
