@@ -92,7 +92,10 @@ def sphere_on_block(
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     block = ElasticBody(blk, mat, {"zmin": Fixed()}, name="block")
     sphere = ElasticBody(cap, mat, {"base": platen(approach)}, name="sphere")
-    pair = ContactPair("zmax", "contact", friction_coefficient, search_distance=s.search_distance)
+    # the frame on the flat block: its normal is the z axis of Hertz theory
+    pair = ContactPair(
+        "zmax", "contact", friction_coefficient, search_distance=s.search_distance, frame_on="body1"
+    )
     return ContactProblem(block, sphere, pair)
 
 

@@ -39,9 +39,11 @@ Frame discretization (the rule, see docs/frame.md for the comparison)
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.spatial
 
 from .errors import ConfigError
 from .mesh import CORNERS, REFERENCE_NODES
@@ -138,28 +140,52 @@ def _tangent_basis(n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return t1, t2
 
 
-def _clip(subject: np.ndarray, clip: np.ndarray) -> np.ndarray:
-    """Sutherland-Hodgman: intersection of polygon ``subject`` with the convex
-    counter-clockwise polygon ``clip`` (both (k, 2))."""
-    out = subject
-    n = len(clip)
-    for i in range(n):
-        if len(out) == 0:
-            break
-        a, b = clip[i], clip[(i + 1) % n]
-        e = b - a
-        s = (e[0] * (out[:, 1] - a[1]) - e[1] * (out[:, 0] - a[0])).tolist()  # > 0 inside
-        pts = []
-        k = len(out)
-        for j in range(k):
-            j1 = j + 1 if j + 1 < k else 0
-            if s[j] >= 0:
-                pts.append(out[j])
-            if (s[j] >= 0) != (s[j1] >= 0):
-                t = s[j] / (s[j] - s[j1])
-                pts.append(out[j] + t * (out[j1] - out[j]))
-        out = np.array(pts).reshape(-1, 2)
-    return out
+def _polygon_areas(P: np.ndarray, count: np.ndarray) -> np.ndarray:
+    """Signed areas of padded polygons ``P`` (n, V, 2) with ``count`` (n,)
+    vertices each (counter-clockwise positive)."""
+    V = P.shape[1]
+    idx = np.arange(V)
+    nxt = np.where(idx[None, :] + 1 < count[:, None], idx[None, :] + 1, 0)
+    Q = np.take_along_axis(P, nxt[:, :, None], axis=1)
+    terms = P[:, :, 0] * Q[:, :, 1] - Q[:, :, 0] * P[:, :, 1]
+    return 0.5 * np.where(idx[None, :] < count[:, None], terms, 0.0).sum(axis=1)
+
+
+def _clip_many(subject: np.ndarray, clip: np.ndarray, vmax: int = 10):
+    """Sutherland-Hodgman for many polygon pairs at once: the intersection
+    of each ``subject`` (n, ks, 2) with the convex counter-clockwise
+    ``clip`` (n, kc, 2).  Returns (vertices (n, vmax, 2), counts (n,))."""
+    n, ks = subject.shape[:2]
+    out = np.zeros((n, vmax, 2))
+    out[:, :ks] = subject
+    count = np.full(n, ks)
+    rows = np.arange(n)[:, None]
+    idx = np.arange(vmax)[None, :]
+    for i in range(clip.shape[1]):
+        a = clip[:, i]
+        e = clip[:, (i + 1) % clip.shape[1]] - a
+        s = e[:, None, 0] * (out[:, :, 1] - a[:, None, 1]) - e[:, None, 1] * (out[:, :, 0] - a[:, None, 0])
+        valid = idx < count[:, None]
+        j1 = np.where(idx + 1 < count[:, None], idx + 1, 0)
+        s1 = np.take_along_axis(s, j1, axis=1)
+        inside, inside1 = s >= 0, s1 >= 0
+        keep = valid & inside
+        cross = valid & (inside != inside1)
+        emitted = keep.astype(int) + cross
+        pos = np.cumsum(emitted, axis=1) - emitted
+        with np.errstate(invalid="ignore", divide="ignore"):
+            t = np.where(cross, s / np.where(cross, s - s1, 1.0), 0.0)
+        nb = np.take_along_axis(out, j1[:, :, None], axis=1)
+        xpt = out + t[:, :, None] * (nb - out)
+        new = np.zeros_like(out)
+        r, c = np.nonzero(keep)
+        new[r, pos[r, c]] = out[r, c]
+        r, c = np.nonzero(cross)
+        new[r, pos[r, c] + keep[r, c]] = xpt[r, c]
+        out = new
+        count = emitted.sum(axis=1)
+    del rows
+    return out, count
 
 
 def _triangle_rule(order: int) -> tuple[np.ndarray, np.ndarray]:
@@ -229,6 +255,7 @@ class ContactFrame:
         names: tuple[str, str] = ("body 1", "body 2"),
         quadrature_order: int = 6,
         search_distance: float | None = None,
+        owner: int | None = None,
     ) -> None:
         if rule not in ("mortar", "collocation"):
             raise ConfigError(f"frame rule must be 'mortar' or 'collocation', got {rule!r}")
@@ -238,6 +265,8 @@ class ContactFrame:
             raise ConfigError(
                 f"frame search_distance must be a finite number > 0 or None, got {search_distance!r}"
             )
+        if owner not in (None, 0, 1):
+            raise ConfigError(f"frame owner must be None, 0 or 1, got {owner!r}")
         self.rule = rule
         self.names = names
         s = (_surface(disc1, surface1, names[0]), _surface(disc2, surface2, names[1]))
@@ -246,7 +275,7 @@ class ContactFrame:
                 raise ConfigError(f"{names[a]}: contact surface is empty")
         self._s = s
         self.search_distance = self._search_distance(search_distance)
-        self.owner = self._choose_owner()
+        self.owner = self._choose_owner() if owner is None else owner
         self._build_frame_nodes()
         self._integrate(quadrature_order)
         self._project_nodes()
@@ -324,44 +353,49 @@ class ContactFrame:
         pairs = _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, self.search_distance)
         search = self.search_distance
         rule_p, rule_w = _triangle_rule(order)
-        fo, ft, zs, ws = [], [], [], []
-        same_way = 0
+        i, j = pairs[:, 0], pairs[:, 1]
+        # skip elements far off the plane, or not facing each other (outward
+        # normals of touching faces are opposite)
+        near = np.abs(np.einsum("pkd,pd->pk", Ct[j] - c_o[i][:, None, :], n_o[i])).min(axis=1) <= search
+        nt = np.cross(Ct[j][:, 1] - Ct[j][:, 0], Ct[j][:, 2] - Ct[j][:, 0])
+        nt /= np.linalg.norm(nt, axis=1)[:, None]
+        facing = np.einsum("pd,pd->p", nt, n_o[i])
+        same_way = int(np.count_nonzero(near & (facing > 0.5)))
+        sel = near & (facing <= -0.5)
+        i, j = i[sel], j[sel]
+        T = np.stack([t1[i], t2[i]], axis=2)  # (p, 3, 2)
+        A = np.einsum("pkd,pdl->pkl", Co[i] - c_o[i][:, None, :], T)
+        B = np.einsum("pkd,pdl->pkl", Ct[j] - c_o[i][:, None, :], T)
+        # both counter-clockwise in the plane seen from the owner's normal side
+        areaA = _polygon_areas(A, np.full(len(A), A.shape[1]))
+        A = np.where((areaA < 0)[:, None, None], A[:, ::-1], A)
+        areaA = np.abs(areaA)
+        areaB = _polygon_areas(B, np.full(len(B), B.shape[1]))
+        B = np.where((areaB < 0)[:, None, None], B[:, ::-1], B)
+        P, cnt = _clip_many(B, A)
+        area = _polygon_areas(P, cnt)
+        ok = (cnt >= 3) & (area > 1e-14 * areaA)
+        i, j, T, P, cnt = i[ok], j[ok], T[ok], P[ok], cnt[ok]
         covered = np.zeros(Eo.size)
-        for i, j in pairs:
-            T = np.stack([t1[i], t2[i]], axis=1)  # (3, 2)
-            A = (Co[i] - c_o[i]) @ T
-            B = (Ct[j] - c_o[i]) @ T
-            # both counter-clockwise in the plane seen from the owner's normal side
-            if _signed_area(A) < 0:
-                A = A[::-1]
-            if _signed_area(B) < 0:
-                B = B[::-1]
-            # skip elements far off the plane, or not facing each other
-            # (outward normals of touching faces are opposite)
-            if np.abs((Ct[j] - c_o[i]) @ n_o[i]).min() > search:
-                continue
-            nt = np.cross(Ct[j][1] - Ct[j][0], Ct[j][2] - Ct[j][0])
-            nt /= np.linalg.norm(nt)
-            if nt @ n_o[i] > -0.5:
-                same_way += nt @ n_o[i] > 0.5
-                continue
-            P = _clip(B, A)
-            if len(P) < 3:
-                continue
-            area = _signed_area(P)
-            if area <= 1e-14 * abs(_signed_area(A)):
-                continue
-            covered[i] += area / abs(_signed_area(A))
-            for k in range(1, len(P) - 1):
-                a, b, c = P[0], P[k], P[k + 1]
-                ar = 0.5 * ((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
-                if ar <= 0:
-                    continue
-                q = a + rule_p[:, :1] * (b - a) + rule_p[:, 1:] * (c - a)
-                zs.append(c_o[i] + q @ T.T)
-                ws.append(2 * ar * rule_w)
-                fo.append(np.full(len(q), i))
-                ft.append(np.full(len(q), j))
+        np.add.at(covered, i, area[ok] / areaA[ok])
+        # fan triangles (P0, Pk, Pk+1), in pair then fan order
+        K = P.shape[1] - 2
+        k = np.arange(1, K + 1)
+        p0 = P[:, :1, :]  # (p, 1, 2)
+        pb = P[:, 1 : K + 1, :]
+        pc = P[:, 2 : K + 2, :]
+        ar = 0.5 * ((pb[..., 0] - p0[..., 0]) * (pc[..., 1] - p0[..., 1])
+                    - (pb[..., 1] - p0[..., 1]) * (pc[..., 0] - p0[..., 0]))  # (p, K)
+        tri = (k[None, :] + 1 < cnt[:, None]) & (ar > 0)
+        pi_, ki = np.nonzero(tri)
+        q = (p0[pi_] + rule_p[None, :, :1] * (pb[pi_, ki][:, None, :] - p0[pi_])
+             + rule_p[None, :, 1:] * (pc[pi_, ki][:, None, :] - p0[pi_]))  # (t, nq, 2)
+        nq = rule_p.shape[0]
+        zs = [c_o[i[pi_]][:, None, :] + np.einsum("tql,tdl->tqd", q, T[pi_])]
+        zs = [zs[0].reshape(-1, 3)] if len(pi_) else []
+        ws = [(2 * ar[pi_, ki][:, None] * rule_w[None, :]).ravel()]
+        fo = [np.repeat(i[pi_], nq)]
+        ft = [np.repeat(j[pi_], nq)]
         if not zs and same_way:
             raise ConfigError(
                 f"contact surfaces of {self.names[0]} and {self.names[1]} face the same way "
@@ -496,28 +530,55 @@ def _signed_area(P: np.ndarray) -> float:
     return 0.5 * float(x @ y1 - x1 @ y)
 
 
-def _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, search: float, chunk: int = 64):
-    """(i, j) pairs of owner elements i (corners Co (Eo, k, 3), centroid c_o,
-    plane basis t1, t2, n_o) and other elements j (corners Ct) whose corner
-    rectangles overlap in i's plane (inflated by a quarter of the larger
-    element) and whose nearest corner is within ``search`` along n_o[i]."""
+def _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, search: float, chunk: int = 100000):
+    """(i, j) pairs (sorted) of owner elements i (corners Co (Eo, k, 3),
+    centroid c_o, plane basis t1, t2, n_o) and other elements j (corners Ct)
+    whose corner rectangles overlap in i's plane (inflated by a quarter of
+    the larger element) and whose nearest corner is within ``search`` along
+    n_o[i].  Pairs passing that test have centroids closer than
+    sqrt2 (r_i + r_j + M/2) + search + M/2 + r_j, r the largest corner
+    distance to the centroid and M = max(r_i, r_j); k-d tree queries per
+    pair of element-size classes give the candidates within that bound, and
+    the test runs on those only."""
+    if len(Co) == 0 or len(Ct) == 0:
+        return np.zeros((0, 2), dtype=np.int64)
+    ro = np.linalg.norm(Co - c_o[:, None, :], axis=2).max(axis=1)
+    ct = Ct.mean(axis=1)
+    rt = np.linalg.norm(Ct - ct[:, None, :], axis=2).max(axis=1)
+
+    def classes(r):
+        # size classes a factor 1.5 apart (all points: one class)
+        if r.max() <= 0:
+            return np.zeros(r.size, dtype=np.int64)
+        return np.floor(np.log(np.maximum(r, r.max() * 1e-6) / r.max()) / np.log(1.5)).astype(np.int64)
+
+    co_cls, ct_cls = classes(ro), classes(rt)
+    codes = []
+    for a in np.unique(co_cls):
+        ia = np.flatnonzero(co_cls == a)
+        ta = scipy.spatial.cKDTree(c_o[ia])
+        Ra = ro[ia].max()
+        for b in np.unique(ct_cls):
+            jb = np.flatnonzero(ct_cls == b)
+            Rb = rt[jb].max()
+            M = max(Ra, Rb)
+            reach = 1.01 * (math.sqrt(2.0) * (Ra + Rb + 0.5 * M) + search + 0.5 * M + Rb)
+            d = ta.sparse_distance_matrix(scipy.spatial.cKDTree(ct[jb]), reach, output_type="ndarray")
+            codes.append(ia[d["i"]] * len(Ct) + jb[d["j"]])
+    code = np.unique(np.concatenate(codes))
+    I, J = code // len(Ct), code % len(Ct)
     out = []
-    for s0 in range(0, len(Co), chunk):
-        sl = slice(s0, s0 + chunk)
-        c = c_o[sl][:, None, None, :]
-        T = np.stack([t1[sl], t2[sl], n_o[sl]], axis=2)  # (c, 3, 3)
-        A = np.einsum("ckd,cdl->ckl", Co[sl] - c_o[sl][:, None, :], T)  # (c, k, 3)
-        B = np.einsum("cjkd,cdl->cjkl", Ct[None] - c, T)  # (c, Et, k, 3)
-        alo, ahi = A[..., :2].min(axis=1), A[..., :2].max(axis=1)  # (c, 2)
-        blo, bhi = B[..., :2].min(axis=2), B[..., :2].max(axis=2)  # (c, Et, 2)
-        tol = 0.25 * np.maximum((ahi - alo).max(axis=1)[:, None], (bhi - blo).max(axis=2))
-        hit = np.all(
-            (alo[:, None, :] - tol[..., None] <= bhi) & (blo <= ahi[:, None, :] + tol[..., None]),
-            axis=2,
-        )
-        hit &= np.abs(B[..., 2]).min(axis=2) <= search + tol
-        i, j = np.nonzero(hit)
-        out.append(np.stack([i + s0, j], axis=1))
+    for s0 in range(0, len(I), chunk):
+        i, j = I[s0 : s0 + chunk], J[s0 : s0 + chunk]
+        T = np.stack([t1[i], t2[i], n_o[i]], axis=2)  # (p, 3, 3)
+        A = np.einsum("pkd,pdl->pkl", Co[i] - c_o[i][:, None, :], T)  # (p, k, 3)
+        B = np.einsum("pkd,pdl->pkl", Ct[j] - c_o[i][:, None, :], T)
+        alo, ahi = A[..., :2].min(axis=1), A[..., :2].max(axis=1)  # (p, 2)
+        blo, bhi = B[..., :2].min(axis=1), B[..., :2].max(axis=1)
+        tol = 0.25 * np.maximum((ahi - alo).max(axis=1), (bhi - blo).max(axis=1))
+        hit = np.all((alo - tol[:, None] <= bhi) & (blo <= ahi + tol[:, None]), axis=1)
+        hit &= np.abs(B[..., 2]).min(axis=1) <= search + tol
+        out.append(np.stack([i[hit], j[hit]], axis=1))
     return np.concatenate(out) if out else np.zeros((0, 2), dtype=np.int64)
 
 

@@ -506,7 +506,7 @@ class _Reader:
     ) -> tuple[tuple[int, int], tuple[str, str], ContactPair]:
         t = self.table(
             "contact", value, ("surfaces",),
-            ("bodies", "friction_coefficient", "frame", "search_distance"),
+            ("bodies", "friction_coefficient", "frame", "search_distance", "frame_on"),
         )
         bodies = t.get("bodies", list(names))
         self.array("contact.bodies", bodies, 2)
@@ -536,9 +536,13 @@ class _Reader:
         if "search_distance" in t:
             search = self.number("contact.search_distance", t["search_distance"], lo=0,
                                  lo_open=True)
+        frame_on = "coarser"
+        if "frame_on" in t:
+            on = self.string("contact.frame_on", t["frame_on"], ["coarser", *bodies])
+            frame_on = on if on == "coarser" else f"body{bodies.index(on) + 1}"
         try:
             pair = ContactPair(surfaces[0], surfaces[1], friction_coefficient=mu, frame=rule,
-                               search_distance=search)
+                               search_distance=search, frame_on=frame_on)
         except BemcontactError as exc:  # pragma: no cover - checked above
             self.wrap("contact", exc, value)
         return (order[0], order[1]), (surfaces[0], surfaces[1]), pair

@@ -111,6 +111,25 @@ def test_owner_tie_is_broken_by_geometry_not_by_label(shift, owner):
     assert f.points[:, 0].min() == min(0.0, shift)
 
 
+@pytest.mark.parametrize("owner", [0, 1])
+def test_owner_given_by_the_user(owner):
+    """owner=0/1 puts the frame on that surface whatever the sizes (3 x 3
+    quads below, 5 x 5 above): its nodes are that surface's corners, the
+    normal still points from body 1 into body 2, and the weights still sum
+    to the common area (frame equilibrium holds for either choice)."""
+    d1, d2 = _disc(True, 3, "quad4"), _disc(False, 5, "quad4")
+    f = ContactFrame(d1, "zmax", d2, "zmin", owner=owner, names=("lower", "upper"))
+    assert f.owner == owner
+    region = ("zmax", "zmin")[owner]
+    np.testing.assert_array_equal(_sorted_rows(f.points), _corner_nodes((d1, d2)[owner], region))
+    np.testing.assert_allclose(f.Q[:, :, 2], np.tile([0.0, 0.0, 1.0], (f.n_frame, 1)), atol=1e-14)
+    assert f.weights.sum() == pytest.approx(4.0, rel=1e-12)
+    for a in range(2):
+        np.testing.assert_allclose(f.D[a].sum(axis=0), f.weights, rtol=1e-12, atol=1e-15)
+    with pytest.raises(bc.ConfigError, match=r"frame owner must be None, 0 or 1, got 2"):
+        ContactFrame(d1, "zmax", d2, "zmin", owner=2)
+
+
 # ------------------------------------------------------------------- bases
 @pytest.mark.parametrize("swapped", [False, True])
 @pytest.mark.parametrize("pair", [(3, "quad4", 5, "quad4"), (3, "tri6", 2, "quad9")])

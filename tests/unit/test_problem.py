@@ -151,7 +151,7 @@ def test_force_steps_and_search_distance(tmp_path):
     text = edit(BASE, "displacement = [0, 0, -0.04]",
                 'displacement = ["free", 0, "free"]\nforce = [0, "free", -10]')
     text = edit(text, 'frame = "mortar"\n', 'frame = "mortar"\nsearch_distance = 0.5\n'
-                '[[step]]\nlabel = "P"\n'
+                'frame_on = "upper"\n[[step]]\nlabel = "P"\n'
                 '[[step]]\nlabel = "Q"\nincrements = 4\n'
                 '[step.boundary_conditions.upper.zmax]\n'
                 'displacement = ["free", 0, "free"]\nforce = [2, "free", -10]\n')
@@ -160,6 +160,8 @@ def test_force_steps_and_search_distance(tmp_path):
     assert upper.boundary_conditions["zmax"] == (
         bc.Displacement((None, 0.0, None)), bc.Force((0.0, None, -10.0)))
     assert p.pair.search_distance == 0.5
+    assert p.pair.frame_on == "body2"
+    assert p.contact_problem().frame.owner == 1
     assert [(s.label, s.increments) for s in p.steps] == [("P", 1), ("Q", 4)]
     assert p.steps[0].conditions == {}
     assert p.steps[1].conditions["upper"]["zmax"][1] == bc.Force((2.0, None, -10.0))
@@ -285,6 +287,9 @@ BAD = {
     "search distance not positive": (
         'frame = "mortar"', 'frame = "mortar"\nsearch_distance = 0', "contact.search_distance",
         "0", "must be > 0"),
+    "frame on an unknown body": (
+        'frame = "mortar"', 'frame = "mortar"\nframe_on = "uper"', "contact.frame_on",
+        "'uper'", "did you mean 'upper'?"),
     "step with unknown key": (
         'frame = "mortar"\n', 'frame = "mortar"\n[[step]]\nincrement = 2\n', "step[0].increment",
         "'increment'", "did you mean 'increments'?"),
