@@ -72,7 +72,9 @@ def sphere_on_block(
     meshed with element size ``fine_size`` within ``setup.fine_radius`` of
     the contact point.  The sphere's base is a rigid platen (see
     :func:`platen`; change its values with :class:`LoadStep`\\ s
-    ``{"sphere": {"base": platen(...)}}``).  Identical materials, so the
+    ``{"sphere": {"base": platen(...)}}``); without friction it is held
+    in x as well (nothing else would: the frame lies on the flat block, so
+    every contact normal is the z axis).  Identical materials, so the
     normal and tangential problems decouple (Cattaneo–Mindlin's setting)."""
     s = setup or SphereOnBlock()
     if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
@@ -91,7 +93,10 @@ def sphere_on_block(
     )
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     block = ElasticBody(blk, mat, {"zmin": Fixed()}, name="block")
-    sphere = ElasticBody(cap, mat, {"base": platen(approach)}, name="sphere")
+    # frictionless: nothing holds the sphere in x on the flat frame, so the
+    # platen is held there too (force control needs friction)
+    base = platen(approach) if friction_coefficient > 0 else [Displacement((0.0, 0.0, -float(approach)))]
+    sphere = ElasticBody(cap, mat, {"base": base}, name="sphere")
     # the frame on the flat block: its normal is the z axis of Hertz theory
     pair = ContactPair(
         "zmax", "contact", friction_coefficient, search_distance=s.search_distance, frame_on="body1"
