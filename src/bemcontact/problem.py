@@ -61,7 +61,7 @@ NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
 RESERVED_NAMES = ("frame", "summary")
 #: Solver keys of a problem file (the fields of :class:`SolverOptions` but ``progress``).
 SOLVER_KEYS = tuple(f.name for f in dataclasses.fields(SolverOptions) if f.name != "progress")
-_INTEGER_SOLVER_KEYS = ("max_iterations", "load_steps", "threads")
+_INTEGER_SOLVER_KEYS = ("max_iterations", "load_steps", "threads", "watchdog")
 FRAME_RULES = ("mortar", "collocation")
 
 
@@ -349,7 +349,7 @@ class _Reader:
         for key, given in t.items():
             where = f"solver.{key}"
             if key in _INTEGER_SOLVER_KEYS:
-                v = self.number(where, given, integer=True, lo=1)
+                v = self.number(where, given, integer=True, lo=0 if key == "watchdog" else 1)
             else:
                 v = self.number(where, given)
             try:  # the ranges are SolverOptions' own

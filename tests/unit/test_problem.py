@@ -111,7 +111,7 @@ def test_free_components_traction_pressure_and_all_solver_keys(tmp_path):
     text = edit(
         text, "max_iterations = 30",
         "max_iterations = 30\nload_steps = 2\npenalty = 2\nline_search_sigma = 1e-3\n"
-        "min_step = 1e-8\nthreads = 1",
+        "min_step = 1e-8\nthreads = 1\nwatchdog = 0",
     )
     p = load_problem(write(tmp_path, text), check_overlap=False)
     upper = p.bodies[1]
@@ -121,7 +121,7 @@ def test_free_components_traction_pressure_and_all_solver_keys(tmp_path):
     assert upper.boundary_conditions["xmin"] == (bc.Pressure(2.0),)
     assert p.options == bc.SolverOptions(
         tolerance=1e-10, max_iterations=30, load_steps=2, penalty=2.0, line_search_sigma=1e-3,
-        min_step=1e-8, threads=1,
+        min_step=1e-8, threads=1, watchdog=0,
     )
     assert isinstance(p.options.penalty, float)
 
@@ -205,6 +205,7 @@ BAD = {
     "float for an integer": (
         "max_iterations = 30", "max_iterations = 30.0", "solver.max_iterations", "30.0",
         "write 30"),
+    "negative watchdog": ("max_iterations = 30", "watchdog = -1", "solver.watchdog", "-1", ">= 0"),
     "zero threads": ("max_iterations = 30", "threads = 0", "solver.threads", "0", ">= 1"),
     "E <= 0": (
         "youngs_modulus = 2e4", "youngs_modulus = 0", "body[1].material.youngs_modulus", "0",

@@ -184,3 +184,21 @@ def test_frame_on_chooses_the_frame_surface():
         assert prob.frame.owner == owner
     with pytest.raises(bc.ConfigError, match=r"frame_on must be one of 'coarser', 'body1', 'body2', got 'lower'"):
         bc.ContactPair("zmax", "zmin", frame_on="lower")
+
+
+def test_watchdog_and_monotone_line_search_agree(cycle):
+    """The watchdog (default) and the monotone line search (watchdog = 0)
+    reach the same solution (the solution does not depend on the path to it:
+    1e-8 of P in the contact force, same states); the watchdog's iteration
+    count is printed next to the monotone one."""
+    res, qs = cycle
+    mono = _problem().solve(
+        bc.SolverOptions(watchdog=0), steps=[bc.LoadStep(label="P")] + [_q(q) for q in qs]
+    )
+    for a, b in zip(res.history, mono.history):
+        np.testing.assert_allclose(a.contact_force, b.contact_force, rtol=0, atol=1e-8 * P)
+        np.testing.assert_array_equal(a.frame.state, b.frame.state)
+    print("iterations: watchdog", [s.iterations for s in res.steps],
+          "monotone", [s.iterations for s in mono.steps])
+    with pytest.raises(bc.ConfigError, match=r"watchdog must be an integer >= 0, got -1"):
+        bc.SolverOptions(watchdog=-1)
