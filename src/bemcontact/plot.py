@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ConfigError
-from .results import ContactResult
+from .results import ContactResult, FrameResult
 
 Source = ContactResult | str | os.PathLike
 
@@ -179,9 +179,131 @@ def plot_interface_line(
         ax.axhline(0.0, color="0.7", linewidth=0.8)
         ax.grid(True, alpha=0.3)
         ax.legend()
+    return _save(fig, path)
+
+
+def _save(fig, path: str | os.PathLike) -> pathlib.Path:
+    """Write ``fig`` as PNG to ``path`` through a temporary file in the same
+    directory (an interrupted write never leaves a partial PNG)."""
     out = pathlib.Path(path)
-    fig.savefig(out, dpi=150, format="png")
+    if not out.parent.is_dir():
+        raise ConfigError(f"{os.fspath(path)}: the directory {os.fspath(out.parent)!r} does not exist")
+    tmp = out.with_name(f".{out.name}.tmp-{os.getpid()}")
+    try:
+        fig.savefig(tmp, dpi=150, format="png")
+        os.replace(tmp, out)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
     return out
 
 
-__all__ = ["InterfaceLine", "interface_line", "plot_interface_line"]
+def plot_radial_profile(
+    source: ContactResult | FrameResult,
+    path: str | os.PathLike,
+    *,
+    pressure=None,
+    traction=None,
+    component: int = 0,
+    center=(0.0, 0.0),
+    title: str = "",
+    length_unit: str = "mm",
+    stress_unit: str = "MPa",
+) -> pathlib.Path:
+    """Contact pressure and tangential traction at the frame nodes against
+    their distance r from ``center`` (in the x-y plane), with analytic curves.
+
+    ``pressure`` and ``traction``: optional callables r -> analytic values
+    (e.g. ``reference.hertz(...).pressure`` and a Cattaneo–Mindlin traction),
+    drawn as lines over the plotted range.  The traction plotted is the
+    ``component`` (0: x, 1: y) of the traction on body 1 (the frame's
+    tangential traction acts on body 2; body 1 receives the opposite), so a
+    tangential force pulling body 2 in +x shows positive.  Nodes are marked
+    by state (stick, slip); open nodes beyond the contact are left out.
+    Writes a PNG to ``path`` and returns it."""
+    from matplotlib.figure import Figure
+
+    from .law import SLIP, STICK
+
+    frame = source.frame if isinstance(source, ContactResult) else source
+    if not isinstance(frame, FrameResult):
+        raise ConfigError(
+            f"plot_radial_profile: expected a ContactResult or FrameResult, got {type(source).__name__}"
+        )
+    if component not in (0, 1):
+        raise ConfigError(f"component must be 0 or 1 (x, y), got {component!r}")
+    r = np.hypot(frame.points[:, 0] - center[0], frame.points[:, 1] - center[1])
+    closed = frame.state > 0
+    if not closed.any():
+        raise ConfigError("plot_radial_profile: no frame node is in contact")
+    rmax = 1.15 * r[closed].max()
+    shown = r <= rmax
+    grid = np.linspace(0.0, rmax, 400)
+    q = -frame.tangential_traction[:, component]
+    panels = [("pressure", frame.pressure, pressure, "$p$"),
+              ("traction", q, traction, f"$q_{'xy'[component]}$ on body 1")]
+    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
+    axes = fig.subplots(1, 2)
+    for ax, (name, values, exact, label) in zip(axes, panels):
+        for st, marker, lab in ((STICK, "o", "stick"), (SLIP, "^", "slip"), (0, "x", "open")):
+            m = shown & (frame.state == st)
+            if m.any():
+                ax.plot(r[m], values[m], marker, markersize=3, linestyle="none", label=lab)
+        if exact is not None:
+            ax.plot(grid, np.asarray(exact(grid), dtype=float), "k-", linewidth=1.2, label="analytic")
+        ax.set_xlabel(f"r ({length_unit})")
+        ax.set_ylabel(f"{label} ({stress_unit})")
+        ax.grid(True, alpha=0.3)
+        ax.legend()
+    if title:
+        fig.suptitle(title)
+    return _save(fig, path)
+
+
+def plot_force_displacement(
+    displacement,
+    force,
+    path: str | os.PathLike,
+    *,
+    analytic=None,
+    title: str = "",
+    xlabel: str = "platen displacement $U_x$ (mm)",
+    ylabel: str = "tangential force $Q$ (N)",
+) -> pathlib.Path:
+    """A force–displacement curve (e.g. the fretting loop of a load history:
+    the platen's translation and force per load step), computed points
+    joined in order, with an optional analytic curve ``analytic = (u, f)``.
+    Writes a PNG to ``path`` and returns it."""
+    from matplotlib.figure import Figure
+
+    u = np.asarray(displacement, dtype=float).ravel()
+    f = np.asarray(force, dtype=float).ravel()
+    if u.size != f.size or u.size < 2:
+        raise ConfigError(
+            f"plot_force_displacement: need as many displacements as forces (>= 2), got "
+            f"{u.size} and {f.size}"
+        )
+    fig = Figure(figsize=(5.5, 4.5), layout="constrained")
+    ax = fig.subplots()
+    if analytic is not None:
+        ua, fa = (np.asarray(v, dtype=float).ravel() for v in analytic)
+        ax.plot(ua, fa, "k-", linewidth=1.2, label="analytic")
+    ax.plot(u, f, "o-", markersize=4, linewidth=0.8, label="bemcontact")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.axhline(0.0, color="0.7", linewidth=0.8)
+    ax.axvline(0.0, color="0.7", linewidth=0.8)
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    if title:
+        ax.set_title(title)
+    return _save(fig, path)
+
+
+__all__ = [
+    "InterfaceLine",
+    "interface_line",
+    "plot_interface_line",
+    "plot_radial_profile",
+    "plot_force_displacement",
+]
