@@ -104,6 +104,45 @@ def sphere_on_block(
     return ContactProblem(block, sphere, pair)
 
 
+def two_spheres(
+    fine_size: float,
+    gap: float = 0.01,
+    approach: float = 0.06,
+    setup: SphereOnBlock | None = None,
+    order: int = 1,
+) -> ContactProblem:
+    """Two identical hemispheres (radius, materials and mesh grading of
+    ``setup``), apexes on the z axis ``gap`` apart (the lower one's at
+    z = -gap/2, flat base clamped; the upper one's at z = +gap/2), the upper
+    base pushed down by ``gap + approach`` (displacement control,
+    frictionless).  The bodies start apart: the frame pairs the surfaces
+    by normal projection within ``gap + 1.2 fine_radius^2 / R`` (the
+    initial gap over the fine zone) and the contact closes under load.
+    Hertz with R_eff = R/2: a = sqrt(R approach / 2)."""
+    s = setup or SphereOnBlock()
+    if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
+        raise ConfigError(
+            f"two_spheres: fine_size must be in (0, fine_radius = {s.fine_radius:g}], got {fine_size!r}"
+        )
+    for name, v in (("gap", gap), ("approach", approach)):
+        if not (isinstance(v, (int, float)) and 0 <= v < s.radius):
+            raise ConfigError(f"two_spheres: {name} must be in [0, R = {s.radius:g}), got {v!r}")
+    caps = [
+        geometry.spherical_cap(
+            s.radius, s.radius, apex=(0.0, 0.0, side * 0.5 * gap), axis=side, fine_size=fine_size,
+            coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+        )
+        for side in (-1, 1)
+    ]
+    mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
+    lower = ElasticBody(caps[0], mat, {"base": Fixed()}, name="lower")
+    upper = ElasticBody(
+        caps[1], mat, {"base": Displacement((0.0, 0.0, -float(gap + approach)))}, name="upper"
+    )
+    search = gap + 1.2 * s.fine_radius**2 / s.radius
+    return ContactProblem(lower, upper, ContactPair("contact", "contact", 0.0, search_distance=search))
+
+
 def tangential_steps(
     forces, approach: float = 0.03, increments: int = 2, label: str = "Q"
 ) -> list[LoadStep]:
@@ -183,6 +222,7 @@ __all__ = [
     "sphere_on_block",
     "platen",
     "tangential_steps",
+    "two_spheres",
     "radial_profile",
     "weighted_l2",
     "HertzErrors",

@@ -236,3 +236,42 @@ def test_fretting_loop(frictional):
     for branch in (slips[1 : N_LOOP + 1], slips[N_LOOP + 1 :]):
         assert all(b >= a_ for a_, b in zip(branch, branch[1:])), branch
     assert slips[N_LOOP] == pytest.approx(slips[0], rel=0.05)
+
+
+# ------------------------------------------------------------ bodies that start apart
+
+GAP, APPROACH2 = 0.01, 0.06
+
+
+def test_two_spheres_close_from_an_initial_gap_and_match_hertz():
+    """Two identical steel hemispheres (R = 10 mm) start 0.01 mm apart; the
+    upper base is pushed down by gap + 0.06 mm (frictionless, displacement
+    control).  The initial weighted gap at every active frame node is at
+    least the apex gap (it comes from the geometry, along the frame
+    normals; at the apex node it exceeds it by the curvature averaged over
+    the node's support, <= h^2/R_eff), the contact closes, and the
+    pressure matches Hertz with R_eff = R/2 for the computed force within
+    the issue's 3 % / 3 % / 5 % (h = 0.05 mm, 22 elements across 2a;
+    measured 6.6 % / 0.5 % / 9.3 % at h = 0.1 and 0.90 % / 0.41 % / 2.8 % at
+    h = 0.05, in 9 Newton iterations).  The frame lies on one sphere (curved): without friction the
+    r/R tilt of its normals changes nothing measurable."""
+    prob = cases.two_spheres(0.05, gap=GAP, approach=APPROACH2)
+    fr = prob.frame
+    x = [b.discretization.points[fr.nodes(a)] for a, b in enumerate(prob.bodies)]
+    act = fr.active
+    k0 = (fr.D[1].T @ x[1] - fr.D[0].T @ x[0])[act] / fr.weights[act, None]
+    g0 = np.einsum("jc,jc->j", k0, fr.Q[act, :, 2])
+    apex = np.argmin(np.hypot(fr.points[act, 0], fr.points[act, 1]))
+    # the weighted gap averages g(r) = gap + r^2/R over the apex node's support
+    assert GAP <= g0[apex] <= GAP + 0.05**2 / SETUP.radius * 2
+    assert g0.min() >= GAP * (1 - 1e-9)
+    res = prob.solve()
+    assert res.converged and res.newton_iterations <= 15
+    hz = ref.hertz(res.normal_force, SETUP.radius / 2, SETUP.contact_modulus)
+    e = cases.hertz_errors(res.frame, hz)
+    print(f"two spheres: P {res.normal_force:.2f} N, a {hz.contact_radius:.4f} mm, errors a "
+          f"{e.contact_radius:+.4f}, p0 {e.peak_pressure:+.4f}, L2 {e.profile_l2:.4f}; "
+          f"{res.newton_iterations} iterations")
+    assert abs(e.contact_radius) <= 0.03 and abs(e.peak_pressure) <= 0.03
+    assert e.profile_l2 <= 0.05
+    assert res.frame.pressure.min() >= -1e-9 * res.frame.pressure.max()
