@@ -47,15 +47,13 @@ def run(out_dir: str, fine_size: float = 0.1, increments: int = 8) -> dict[str, 
         + cases.tangential_steps(-down, APPROACH, increments=1, label="reload")
     )
     res = cases.sphere_on_block(fine_size, APPROACH, friction_coefficient=MU).solve(steps=steps)
-    Q = np.array([h.bodies[1].reaction("base")[0] for h in res.history])
-    U = np.array([h.control_displacements["sphere"]["base"][0] for h in res.history])
+    Q, U = cases.platen_history(res)
     top = res.history[2]
     P = top.normal_force
     hz = ref.hertz(P, s.radius, s.contact_modulus)
     a = hz.contact_radius
-    G, nu = s.shear_modulus, s.poisson_ratio
-    S = ref.tangential_compliance_factor(G, nu, G, nu)
-    c_bulk = U[1] / Q[1] - S / (8 * a)  # the bodies' linear compliance
+    S = s.tangential_compliance_factor
+    delta = cases.tangential_approach(Q, U, a, S)  # less the bodies' linear compliance
     plot_radial_profile(
         top, out / "profiles.png", pressure=hz.pressure,
         traction=lambda r: ref.cattaneo_mindlin_traction(r, hz, Q[2], MU),
@@ -67,10 +65,10 @@ def run(out_dir: str, fine_size: float = 0.1, increments: int = 8) -> dict[str, 
     ua = np.concatenate([d_un, -d_un])
     fa = np.concatenate([qa, -qa])
     loop_U, loop_Q = U[2:], Q[2:]
-    # the contact's own tangential approach: the platen translation less the
-    # bodies' linear compliance (which adds no area, but hides the loop)
+    # the contact's own tangential approach (the bodies' linear compliance
+    # adds no area, but hides the loop)
     plot_force_displacement(
-        loop_U - c_bulk * loop_Q, loop_Q, out / "fretting_loop.png", analytic=(ua, fa),
+        delta[2:], loop_Q, out / "fretting_loop.png", analytic=(ua, fa),
         title=f"fretting loop, Q* = {q_max / (MU * P):.3f} μP",
         xlabel="tangential approach δ = $U_x$ − $C_{bulk}$ Q (mm)",
     )

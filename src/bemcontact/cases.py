@@ -21,7 +21,7 @@ from .body import Displacement, ElasticBody, Fixed, Force
 from .errors import ConfigError
 from .law import STICK
 from .material import LinearElastic
-from .reference.contact import Hertz
+from .reference.contact import Hertz, tangential_compliance_factor
 from .results import FrameResult
 from .solver import ContactPair, ContactProblem, LoadStep
 
@@ -48,6 +48,12 @@ class SphereOnBlock:
     @property
     def shear_modulus(self) -> float:
         return self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+
+    @property
+    def tangential_compliance_factor(self) -> float:
+        """S = 2 (2 - nu) / G of the two identical bodies (Cattaneo–Mindlin)."""
+        G, nu = self.shear_modulus, self.poisson_ratio
+        return tangential_compliance_factor(G, nu, G, nu)
 
 
 def platen(approach: float, tangential_force: float = 0.0) -> list:
@@ -158,6 +164,26 @@ def tangential_steps(
 # --------------------------------------------------------------------------- measures
 
 
+def platen_history(result, body: str = "sphere", region: str = "base", component: int = 0):
+    """(Q, U): per load step of ``result.history``, the resultant of the
+    platen's tractions and its translation in ``component`` (for
+    :func:`sphere_on_block`: the tangential force and displacement)."""
+    Q = np.array([s.bodies[[*s.names].index(body)].reaction(region)[component] for s in result.history])
+    U = np.array([s.control_displacements[body][region][component] for s in result.history])
+    return Q, U
+
+
+def tangential_approach(Q, U, contact_radius: float, S: float, reference: int = 1) -> np.ndarray:
+    """Cattaneo–Mindlin's tangential approach from the platen's (Q, U): the
+    translation U also holds the finite bodies' linear elastic compliance
+    (the "distant points" of the theory are a half-space notion); it is
+    measured as U/Q at an all-stick step ``reference`` (a small Q) and
+    replaced by the contact's own initial compliance S / (8 a)."""
+    Q, U = np.asarray(Q, dtype=float), np.asarray(U, dtype=float)
+    bulk = U[reference] / Q[reference] - S / (8.0 * contact_radius)
+    return U - bulk * Q
+
+
 def radial_profile(frame: FrameResult, center=(0.0, 0.0)) -> tuple[np.ndarray, ...]:
     """(r, pressure, q_x, weights, state) at the frame nodes, r the distance
     from ``center`` in the x-y plane, q_x the x traction on body 1 (the
@@ -224,6 +250,8 @@ __all__ = [
     "tangential_steps",
     "two_spheres",
     "radial_profile",
+    "platen_history",
+    "tangential_approach",
     "weighted_l2",
     "HertzErrors",
     "hertz_errors",

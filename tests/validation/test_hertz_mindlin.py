@@ -84,11 +84,6 @@ def test_hertz_frictionless_matches_and_converges(frictionless):
 SMALL, RATIOS, N_LOOP = 0.02, (0.5, 0.75), 8
 
 
-def _compliance_factor():
-    G, nu = SETUP.shear_modulus, SETUP.poisson_ratio
-    return ref.tangential_compliance_factor(G, nu, G, nu)
-
-
 @pytest.fixture(scope="module")
 def frictional(frictionless):
     """mu = 0.3 on the finest mesh, loads set from the frictionless P of the
@@ -106,14 +101,6 @@ def frictional(frictionless):
     )
     res = cases.sphere_on_block(h, friction_coefficient=MU).solve(steps=steps)
     return h, P, q_max, res
-
-
-def _platen(res):
-    """(Q, U): the prescribed x force on the sphere's base and its x
-    translation, per step."""
-    Q = np.array([s.bodies[1].reaction("base")[0] for s in res.history])
-    U = np.array([s.control_displacements["sphere"]["base"][0] for s in res.history])
-    return Q, U
 
 
 def test_frictional_solve_converges_in_few_iterations(frictional):
@@ -143,14 +130,6 @@ def test_hertz_with_friction(frictional):
     assert np.abs(s.frame.tangential_traction).max() <= 0.03 * hz.peak_pressure
 
 
-def _delta(Q, U, a, k):
-    """Cattaneo–Mindlin's tangential approach from the platen translation:
-    the finite bodies' linear compliance (U/Q of the small all-stick step)
-    replaced by the contact's initial compliance S/8a."""
-    c_bulk = U[1] / Q[1] - _compliance_factor() / (8 * a)
-    return U[k] - c_bulk * Q[k]
-
-
 @pytest.mark.parametrize("k, ratio", [(2, 0.5), (3, 0.75)])
 def test_cattaneo_mindlin(frictional, k, ratio):
     """Q = 0.5 and 0.75 mu P at constant approach, against Cattaneo–Mindlin
@@ -159,7 +138,8 @@ def test_cattaneo_mindlin(frictional, k, ratio):
     * stick radius (area of the stuck frame nodes) within 5 % of
       a (1 - Q/mu P)^(1/3) (measured -1.9 % and -2.1 %);
     * tangential approach within 5 % (measured -1.1 % and -1.1 %; the
-      finite bodies' linear compliance is replaced by S/8a, see _delta, so
+      finite bodies' linear compliance is replaced by S/8a, see
+      cases.tangential_approach, so
       this checks the slip-dependent part, 10-17 % of the total);
     * traction profile (x traction on the block, frame-node weighted L2 on
       r < 0.9 a): <= 10 % at 0.75 (measured 7.1 %); at 0.5 measured 13.3 %
@@ -168,7 +148,7 @@ def test_cattaneo_mindlin(frictional, k, ratio):
       with 2 elements; rate ~1) — asserted <= 15 %, short of the issue's
       10 %, which needs h ~ 0.035 (issue 7's speed)."""
     h, P0, _, res = frictional
-    Q, U = _platen(res)
+    Q, U = cases.platen_history(res)
     s = res.history[k]
     P = s.normal_force
     hz = _hertz(P)
@@ -177,8 +157,8 @@ def test_cattaneo_mindlin(frictional, k, ratio):
     assert Q[k] / (MU * P) == pytest.approx(ratio, rel=1e-4)
     c_exact = ref.cattaneo_mindlin_stick_radius(a, Q[k], MU, P)
     c = cases.stick_radius(s.frame)
-    d_exact = ref.cattaneo_mindlin_displacement(Q[k], MU, P, a, _compliance_factor())
-    d = _delta(Q, U, a, k)
+    d_exact = ref.cattaneo_mindlin_displacement(Q[k], MU, P, a, SETUP.tangential_compliance_factor)
+    d = cases.tangential_approach(Q, U, a, SETUP.tangential_compliance_factor)[k]
     r, _, qx, w, _ = cases.radial_profile(s.frame)
     inner = r < 0.9 * a
     l2 = cases.weighted_l2(qx[inner], ref.cattaneo_mindlin_traction(r[inner], hz, Q[k], MU), w[inner])
@@ -207,7 +187,7 @@ def test_fretting_loop(frictional):
     * the branch ends mirror each other: the slip counts at -Q* and Q*
       agree to 5 % (measured 268 vs 265)."""
     h, P0, q_max, res = frictional
-    Q, U = _platen(res)
+    Q, U = cases.platen_history(res)
     k0 = 1 + 1 + len(RATIOS) - 1  # the step at Q*
     loop_Q, loop_U = Q[k0:], U[k0:]
     assert loop_Q[0] == pytest.approx(q_max) and loop_Q[-1] == pytest.approx(q_max)
@@ -216,7 +196,7 @@ def test_fretting_loop(frictional):
     W = 0.5 * abs(np.sum(poly_Q * np.roll(poly_U, -1) - np.roll(poly_Q, -1) * poly_U))
     P = res.history[k0].normal_force
     a = _hertz(P).contact_radius
-    S = _compliance_factor()
+    S = SETUP.tangential_compliance_factor
     W_closed = ref.fretting_loop_energy(q_max, MU, P, a, S)
     d_un = ref.mindlin_deresiewicz_unloading(loop_Q[: N_LOOP + 1], q_max, MU, P, a, S)
     d_re = -ref.mindlin_deresiewicz_unloading(-loop_Q[N_LOOP + 1 : -1], q_max, MU, P, a, S)
