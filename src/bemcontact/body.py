@@ -17,7 +17,7 @@ from typing import Any, Union
 import numpy as np
 import scipy.linalg
 
-from .errors import ConfigError, MeshError
+from .errors import ConfigError
 from .material import LinearElastic
 from .mesh import SurfaceMesh
 from .operators import (

@@ -159,7 +159,6 @@ def _clip_many(subject: np.ndarray, clip: np.ndarray, vmax: int = 10):
     out = np.zeros((n, vmax, 2))
     out[:, :ks] = subject
     count = np.full(n, ks)
-    rows = np.arange(n)[:, None]
     idx = np.arange(vmax)[None, :]
     for i in range(clip.shape[1]):
         a = clip[:, i]
@@ -184,7 +183,6 @@ def _clip_many(subject: np.ndarray, clip: np.ndarray, vmax: int = 10):
         new[r, pos[r, c] + keep[r, c]] = xpt[r, c]
         out = new
         count = emitted.sum(axis=1)
-    del rows
     return out, count
 
 
@@ -522,12 +520,6 @@ class ContactFrame:
         s2 = self.D[1].sum(axis=0)
         act = self.active
         return float(np.max(np.abs(s1 - s2)[act] / self.weights[act]))
-
-
-def _signed_area(P: np.ndarray) -> float:
-    x, y = P[:, 0], P[:, 1]
-    x1, y1 = x[list(range(1, len(x))) + [0]], y[list(range(1, len(y))) + [0]]
-    return 0.5 * float(x @ y1 - x1 @ y)
 
 
 def _candidate_pairs(Co, c_o, t1, t2, n_o, Ct, search: float, chunk: int = 100000):

@@ -22,7 +22,6 @@ from typing import Any
 
 import numpy as np
 import scipy.linalg
-import scipy.sparse
 
 from . import law
 from .body import BodySolution, ElasticBody
