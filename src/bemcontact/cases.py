@@ -66,6 +66,23 @@ def platen(approach: float, tangential_force: float = 0.0) -> list:
     ]
 
 
+def _setup(who: str, setup: SphereOnBlock | None, fine_size) -> SphereOnBlock:
+    s = setup or SphereOnBlock()
+    if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
+        raise ConfigError(
+            f"{who}: fine_size must be in (0, fine_radius = {s.fine_radius:g}], got {fine_size!r}"
+        )
+    return s
+
+
+def _hemisphere(s: SphereOnBlock, fine_size: float, apex_z: float, axis: int, order: int):
+    """The graded hemisphere of ``s`` with its apex at (0, 0, apex_z)."""
+    return geometry.spherical_cap(
+        s.radius, s.radius, apex=(0.0, 0.0, apex_z), axis=axis, fine_size=fine_size,
+        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+    )
+
+
 def sphere_on_block(
     fine_size: float,
     approach: float = 0.03,
@@ -82,21 +99,13 @@ def sphere_on_block(
     in x as well (nothing else would: the frame lies on the flat block, so
     every contact normal is the z axis).  Identical materials, so the
     normal and tangential problems decouple (Cattaneo–Mindlin's setting)."""
-    s = setup or SphereOnBlock()
-    if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
-        raise ConfigError(
-            f"sphere_on_block: fine_size must be in (0, fine_radius = {s.fine_radius:g}], "
-            f"got {fine_size!r}"
-        )
+    s = _setup("sphere_on_block", setup, fine_size)
     w, d = s.block_half_width, s.block_depth
     blk = geometry.graded_block(
         (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=fine_size,
         coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
     )
-    cap = geometry.spherical_cap(
-        s.radius, s.radius, apex=(0.0, 0.0, 0.0), axis=1, fine_size=fine_size,
-        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
-    )
+    cap = _hemisphere(s, fine_size, 0.0, 1, order)
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     block = ElasticBody(blk, mat, {"zmin": Fixed()}, name="block")
     # frictionless: nothing holds the sphere in x on the flat frame, so the
@@ -125,21 +134,11 @@ def two_spheres(
     by normal projection within ``gap + 1.2 fine_radius^2 / R`` (the
     initial gap over the fine zone) and the contact closes under load.
     Hertz with R_eff = R/2: a = sqrt(R approach / 2)."""
-    s = setup or SphereOnBlock()
-    if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
-        raise ConfigError(
-            f"two_spheres: fine_size must be in (0, fine_radius = {s.fine_radius:g}], got {fine_size!r}"
-        )
+    s = _setup("two_spheres", setup, fine_size)
     for name, v in (("gap", gap), ("approach", approach)):
         if not (isinstance(v, (int, float)) and 0 <= v < s.radius):
             raise ConfigError(f"two_spheres: {name} must be in [0, R = {s.radius:g}), got {v!r}")
-    caps = [
-        geometry.spherical_cap(
-            s.radius, s.radius, apex=(0.0, 0.0, side * 0.5 * gap), axis=side, fine_size=fine_size,
-            coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
-        )
-        for side in (-1, 1)
-    ]
+    caps = [_hemisphere(s, fine_size, side * 0.5 * gap, side, order) for side in (-1, 1)]
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     lower = ElasticBody(caps[0], mat, {"base": Fixed()}, name="lower")
     upper = ElasticBody(
