@@ -16,6 +16,8 @@
 namespace nb = nanobind;
 using namespace bemcontact;
 
+void bind_hmatrix(nb::module_& mod);  // hmatrix_bindings.cpp
+
 using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
 using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
@@ -65,6 +67,8 @@ NB_MODULE(_core, mod) {
       .def_rw("singular_order", &QuadratureParams::singular_order)
       .def_rw("max_angle", &QuadratureParams::max_angle)
       .def_rw("max_depth", &QuadratureParams::max_depth);
+
+  bind_hmatrix(mod);
 
   mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
 

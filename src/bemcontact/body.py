@@ -19,6 +19,7 @@ import scipy.linalg
 
 from .errors import ConfigError
 from .material import LinearElastic
+from .hmatrix import CompressedInfluence, LinearSolverOptions, solve_mixed
 from .mesh import SurfaceMesh
 from .operators import (
     Discretization,
@@ -154,6 +155,7 @@ class BodySolution:
     region_names: tuple[str, ...]
     discretization: Discretization
     timings: dict[str, float] = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)
 
     def nodes_of(self, region: str) -> np.ndarray:
         if region not in self.region_names:
@@ -381,14 +383,26 @@ class ElasticBody:
             R[:, :, 3 + j] = np.cross(e, x)
         return R.reshape(3 * N, 6)
 
-    def solve(self, threads: int | None = None) -> BodySolution:
-        """Assemble and solve the mixed boundary value problem (LAPACK LU).
+    def solve(
+        self, threads: int | None = None, linear: LinearSolverOptions | None = None
+    ) -> BodySolution:
+        """Assemble and solve the mixed boundary value problem.
 
-        A body with no prescribed displacement is determined up to a rigid
-        motion; its tractions must then be self-equilibrated, and the solution
-        with zero weighted mean translation and rotation is returned.
+        ``linear`` chooses dense LAPACK LU or H-matrix operators with GMRES
+        (:class:`~bemcontact.hmatrix.LinearSolverOptions`; default "auto":
+        dense for small bodies).  A body with no prescribed displacement is
+        determined up to a rigid motion; its tractions must then be
+        self-equilibrated, and the solution with zero weighted mean
+        translation and rotation is returned.
         """
+        linear = linear or LinearSolverOptions()
+        if not isinstance(linear, LinearSolverOptions):
+            raise ConfigError(
+                f"{self.name}: linear must be LinearSolverOptions, got {type(linear).__name__}"
+            )
         d = self.discretization
+        if linear.use_hmatrix(d.n_points):
+            return self._solve_compressed(threads, linear)
         t0 = time.perf_counter()
         known_u, values = self.boundary_data()
         controls = self.controls()
@@ -407,7 +421,47 @@ class ElasticBody:
             b = np.concatenate([b, [c.force for c in controls]])
         x = self._lu_solve(A, b)
         t2 = time.perf_counter()
+        return self._solution(x, known_u, values, controls,
+                              {"assembly": t1 - t0, "solve": t2 - t1}, {"method": "dense"})
+
+    def _solve_compressed(self, threads, linear: LinearSolverOptions) -> BodySolution:
+        d = self.discretization
+        t0 = time.perf_counter()
+        known_u, values = self.boundary_data()
+        controls = self.controls()
+        m = self.material
+        op = CompressedInfluence(
+            d, m.shear_modulus, m.poisson_ratio, self.quadrature, linear.hmatrix, threads
+        )
+        t1 = time.perf_counter()
+        n = op.n
+        if not known_u.any():
+            modes = self.rigid_modes()
+            w3 = np.repeat(d.weights, 3)
+            cols, rows, f = modes, (modes * w3[:, None]).T, np.zeros(6)
+        elif controls:
+            E = np.zeros((n, len(controls)))
+            for k, c in enumerate(controls):
+                E[c.dofs, k] = 1.0
+            cols, rows = op.matvec(E, None), self.control_rows(controls)
+            f = np.array([c.force for c in controls])
+        else:
+            cols = rows = f = None
+        x, info = solve_mixed(
+            op, known_u, values, cols, rows, f, tolerance=linear.tolerance,
+            max_iterations=linear.max_iterations, restart=linear.restart,
+            where=f"{self.name}: ",
+        )
+        t2 = time.perf_counter()
+        solver = {"method": "hmatrix", "iterations": info.iterations,
+                  "residuals": info.residuals, **op.stats()}
+        return self._solution(x, known_u, values, controls,
+                              {"assembly": t1 - t0, "solve": t2 - t1}, solver)
+
+    def _solution(self, x, known_u, values, controls, timings, solver) -> BodySolution:
+        d = self.discretization
         n = 3 * d.n_points
+        values = values.copy()
         if controls:
             for c, U in zip(controls, x[n:]):
                 values[c.dofs] = U
@@ -423,7 +477,8 @@ class ElasticBody:
             region=d.region,
             region_names=self.mesh.region_names,
             discretization=d,
-            timings={"assembly": t1 - t0, "solve": t2 - t1},
+            timings=timings,
+            solver=solver,
         )
 
     @staticmethod

@@ -1,0 +1,149 @@
+// nanobind bindings of the H-matrix (part of module bemcontact._core).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/vector.h>
+
+#include <cstring>
+
+#include "hmatrix.hpp"
+
+namespace nb = nanobind;
+using namespace bemcontact;
+
+namespace {
+
+using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using CInt64_1 = nb::ndarray<const int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using CInt32_1 = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using Double2 = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
+using NpArray = nb::ndarray<nb::numpy, double>;
+using NpInt = nb::ndarray<nb::numpy, int64_t>;
+
+template <class T>
+nb::ndarray<nb::numpy, T> owned_copy(const T* src, std::initializer_list<size_t> shape) {
+  size_t n = 1;
+  for (size_t s : shape) n *= s;
+  T* data = new T[n > 0 ? n : 1];
+  if (n) std::memcpy(data, src, n * sizeof(T));
+  nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<T*>(p); });
+  return nb::ndarray<nb::numpy, T>(data, shape.size(), shape.begin(), owner);
+}
+
+}  // namespace
+
+void bind_hmatrix(nb::module_& mod) {
+  nb::class_<HParams>(mod, "HParams")
+      .def(nb::init<>())
+      .def_rw("eps", &HParams::eps)
+      .def_rw("eta", &HParams::eta)
+      .def_rw("leaf_size", &HParams::leaf_size)
+      .def_rw("max_rank", &HParams::max_rank)
+      .def_rw("checks", &HParams::checks);
+
+  nb::class_<HMatrix>(mod, "HMatrix")
+      .def(
+          "__init__",
+          [](HMatrix* self, CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
+             CDouble3 fxi, CDouble2 points, double shear_modulus, double nu,
+             const QuadratureParams& q, const HParams& hp, int threads) {
+            MeshView m;
+            m.nodes = nodes.data();
+            m.n_nodes = static_cast<int64_t>(nodes.shape(0));
+            m.etype = etype.data();
+            m.conn = conn.data();
+            m.fconn = fconn.data();
+            m.fxi = fxi.data();
+            m.n_elements = static_cast<int64_t>(etype.shape(0));
+            const double* pts = points.data();
+            const int64_t n = static_cast<int64_t>(points.shape(0));
+            nb::gil_scoped_release release;
+            new (self) HMatrix(m, pts, n, shear_modulus, nu, q, hp, threads);
+          },
+          nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
+          nb::arg("points"), nb::arg("shear_modulus"), nb::arg("nu"), nb::arg("q"),
+          nb::arg("hp"), nb::arg("threads"))
+      .def_prop_ro("n_points", &HMatrix::n_points)
+      .def_prop_ro("stored_doubles", &HMatrix::stored_doubles)
+      .def_prop_ro("build_seconds", &HMatrix::build_seconds)
+      .def(
+          "apply",
+          [](const HMatrix& h, CDouble2 a, CDouble2 b, Double2 y, int threads) {
+            const int64_t k = static_cast<int64_t>(a.shape(1));
+            const double* pa = a.data();
+            const double* pb = b.data();
+            double* py = y.data();
+            nb::gil_scoped_release release;
+            h.apply(pa, pb, py, k, threads);
+          },
+          nb::arg("a"), nb::arg("b"), nb::arg("y"), nb::arg("threads"),
+          "y = H a + G b (3N x k each, row-major, original dof order).")
+      .def(
+          "entries",
+          [](const HMatrix& h, CInt64_1 rows, CInt64_1 cols) {
+            const size_t nr = rows.shape(0), nc = cols.shape(0);
+            std::vector<double> H(nr * nc), G(nr * nc);
+            h.entries(rows.data(), nr, cols.data(), nc, H.data(), G.data());
+            return nb::make_tuple(owned_copy(H.data(), {nr, nc}), owned_copy(G.data(), {nr, nc}));
+          },
+          nb::arg("rows"), nb::arg("cols"),
+          "Exact entries H[rows][:, cols], G[rows][:, cols] from the element integrals.")
+      .def("block_info",
+           [](const HMatrix& h) {
+             // per block: tau begin, tau size, sigma begin, sigma size, rank (-1 dense),
+             // failed checks
+             const auto& B = h.blocks();
+             const auto& C = h.clusters();
+             std::vector<int64_t> out(6 * B.size());
+             for (size_t i = 0; i < B.size(); ++i) {
+               out[6 * i] = C[B[i].tau].begin;
+               out[6 * i + 1] = C[B[i].tau].size();
+               out[6 * i + 2] = C[B[i].sigma].begin;
+               out[6 * i + 3] = C[B[i].sigma].size();
+               out[6 * i + 4] = B[i].rank;
+               out[6 * i + 5] = B[i].aca_checks_failed;
+             }
+             return owned_copy(out.data(), {B.size(), (size_t)6});
+           })
+      .def(
+          "block_matrices",
+          [](const HMatrix& h, int64_t i) {
+            // block i as dense (H, G) in the cluster order (rows tau, cols sigma)
+            const HBlock& b = h.blocks().at(static_cast<size_t>(i));
+            const auto& C = h.clusters();
+            const size_t m = 3 * C[b.tau].size(), n = 3 * C[b.sigma].size();
+            if (b.rank < 0)
+              return nb::make_tuple(owned_copy(b.H.data(), {m, n}), owned_copy(b.G.data(), {m, n}));
+            std::vector<double> H(m * n, 0.0), G(m * n, 0.0);
+            for (int l = 0; l < b.rank; ++l)
+              for (size_t r = 0; r < m; ++r) {
+                const double u = b.U[l * m + r];
+                for (size_t c = 0; c < n; ++c) {
+                  H[r * n + c] += u * b.VH[l * n + c];
+                  G[r * n + c] += u * b.VG[l * n + c];
+                }
+              }
+            return nb::make_tuple(owned_copy(H.data(), {m, n}), owned_copy(G.data(), {m, n}));
+          },
+          nb::arg("i"), "Block i expanded to dense (H, G), rows and columns in cluster order.")
+      .def("perm",
+           [](const HMatrix& h) { return owned_copy(h.perm().data(), {h.perm().size()}); })
+      .def(
+          "diagonal_blocks",
+          [](const HMatrix& h) {
+            // dense diagonal leaves: list of (original nodes, H, G)
+            nb::list out;
+            const auto& C = h.clusters();
+            for (const HBlock& b : h.blocks()) {
+              if (b.tau != b.sigma || b.rank >= 0) continue;
+              const HCluster& c = C[b.tau];
+              const size_t s = c.size();
+              out.append(nb::make_tuple(owned_copy(h.perm().data() + c.begin, {s}),
+                                        owned_copy(b.H.data(), {3 * s, 3 * s}),
+                                        owned_copy(b.G.data(), {3 * s, 3 * s})));
+            }
+            return out;
+          },
+          "The dense diagonal leaf blocks: [(nodes (s,), H (3s x 3s), G (3s x 3s))].");
+}

@@ -1,0 +1,366 @@
+"""Compressed BEM operators: H and G of a body as a hierarchical matrix.
+
+The dense influence matrices of :func:`~bemcontact.operators.assemble_influence`
+store (3N)² numbers each.  :class:`CompressedInfluence` stores them in
+hierarchical (H-matrix) form, built by the compiled core straight from the
+element integrals:
+
+* a cluster tree on the functional nodes (the 3 unknowns of a node stay
+  together), split at the median of the longest side of the bounding box until
+  a cluster has at most ``leaf_size`` nodes;
+* standard admissibility on the bounding boxes of the nodes' element
+  supports: a block (tau, sigma) is low rank when
+  ``min(diam tau, diam sigma) <= eta * dist(tau, sigma)``, dense otherwise
+  (near field, leaves);
+* low-rank blocks by adaptive cross approximation with partial pivoting on
+  ``[H | s G]`` together (one element integration gives both), pivoting by node
+  and checked on random unused node rows and columns before it stops (see the
+  compiled code for why scalar pivoting fails for coplanar elasticity blocks);
+  each block meets ``||M - U V^T||_F <= eps ||M||_F`` up to the estimate;
+* the diagonal 3x3 blocks of H (free term and principal value) from rigid-body
+  translation, summed over the compressed rows.
+
+The mixed system of a body, A x = b with A = H on traction-given columns and
+-G on displacement-given ones, is then solved by GMRES preconditioned with the
+LU factors of the dense diagonal leaf blocks of A (block Jacobi); see
+:func:`solve_mixed`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse.linalg
+
+from .errors import ConfigError, ConvergenceError
+from .operators import Discretization, QuadratureOptions
+
+
+def _core():
+    from . import _core
+
+    return _core
+
+
+@dataclass(frozen=True)
+class HMatrixOptions:
+    """H-matrix settings.
+
+    Attributes
+    ----------
+    eps:
+        Relative (Frobenius) accuracy of each low-rank block.  The error of a
+        matrix-vector product is of the same order (measured 0.05–0.1 eps on
+        boxes); the solution error follows it times the condition number of
+        the preconditioned system.
+    eta:
+        Admissibility parameter: a block is approximated when the smaller
+        cluster's diameter is at most ``eta`` times the clusters' distance.
+    leaf_size:
+        Largest number of nodes in a leaf cluster.
+    max_rank:
+        Cap on the rank of a block (0: none; a block that would need a larger
+        rank is stored dense).
+    checks:
+        Random node rows and columns tested each time the cross approximation
+        would stop.
+    """
+
+    eps: float = 1e-6
+    eta: float = 2.0
+    leaf_size: int = 48
+    max_rank: int = 0
+    checks: int = 3
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.eps, (int, float)) and 0 < self.eps < 1):
+            raise ConfigError(f"HMatrixOptions.eps must be in (0, 1), got {self.eps!r}")
+        if not (isinstance(self.eta, (int, float)) and 0 < self.eta <= 10):
+            raise ConfigError(f"HMatrixOptions.eta must be in (0, 10], got {self.eta!r}")
+        for name, lo in (("leaf_size", 1), ("max_rank", 0), ("checks", 0)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < lo:
+                raise ConfigError(f"HMatrixOptions.{name} must be an integer >= {lo}, got {v!r}")
+
+    def to_core(self):
+        h = _core().HParams()
+        h.eps = float(self.eps)
+        h.eta = float(self.eta)
+        h.leaf_size = int(self.leaf_size)
+        h.max_rank = int(self.max_rank)
+        h.checks = int(self.checks)
+        return h
+
+
+class CompressedInfluence:
+    """H and G of one body in H-matrix form (wraps the compiled ``HMatrix``).
+
+    Parameters
+    ----------
+    disc:
+        The body's :class:`~bemcontact.operators.Discretization`.
+    shear_modulus, poisson_ratio:
+        Material of the body.
+    quadrature:
+        Element integration settings (the same as the dense path's).
+    options:
+        :class:`HMatrixOptions`.
+    threads:
+        OpenMP threads for the build and the products (default: all).
+    """
+
+    def __init__(
+        self,
+        disc: Discretization,
+        shear_modulus: float,
+        poisson_ratio: float,
+        quadrature: QuadratureOptions | None = None,
+        options: HMatrixOptions | None = None,
+        threads: int | None = None,
+    ) -> None:
+        self.options = options or HMatrixOptions()
+        if not isinstance(self.options, HMatrixOptions):
+            raise ConfigError(f"options must be HMatrixOptions, got {type(options).__name__}")
+        self.threads = _core().max_threads() if threads is None else int(threads)
+        if self.threads < 1:
+            raise ConfigError(f"threads must be >= 1, got {threads!r}")
+        self.n_points = disc.n_points
+        q = (quadrature or QuadratureOptions()).to_core()
+        self._h = _core().HMatrix(
+            *disc.core_arrays(), disc.points, float(shear_modulus), float(poisson_ratio), q,
+            self.options.to_core(), self.threads,
+        )
+
+    # -- size
+    @property
+    def n(self) -> int:
+        """Rows (and columns) of H and of G: 3N."""
+        return 3 * self.n_points
+
+    @property
+    def stored_bytes(self) -> int:
+        """Bytes held by the blocks (H and G together)."""
+        return 8 * int(self._h.stored_doubles)
+
+    @property
+    def dense_bytes(self) -> int:
+        """Bytes one dense (3N)² matrix would need."""
+        return 8 * self.n * self.n
+
+    @property
+    def build_seconds(self) -> float:
+        return float(self._h.build_seconds)
+
+    def block_info(self) -> np.ndarray:
+        """(blocks, 6) int64: tau begin, tau size, sigma begin, sigma size (in
+        the cluster order, nodes), rank (-1 for dense), failed stop checks."""
+        return self._h.block_info()
+
+    def stats(self) -> dict:
+        info = self.block_info()
+        lr = info[:, 4] >= 0
+        return {
+            "blocks": int(info.shape[0]),
+            "low_rank_blocks": int(lr.sum()),
+            "max_rank": int(info[lr, 4].max()) if lr.any() else 0,
+            "mean_rank": float(info[lr, 4].mean()) if lr.any() else 0.0,
+            "stored_mb": self.stored_bytes / 1e6,
+            "dense_mb": self.dense_bytes / 1e6,
+            "build_s": self.build_seconds,
+        }
+
+    # -- products
+    def matvec(self, a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray:
+        """H a + G b for vectors (3N,) or blocks of columns (3N, k); either may
+        be None (zero)."""
+        ref = a if a is not None else b
+        if ref is None:
+            raise ConfigError("matvec needs a or b")
+        shape = np.shape(ref)
+        if shape[0] != self.n or len(shape) not in (1, 2):
+            raise ConfigError(f"matvec: expected shape ({self.n},) or ({self.n}, k), got {shape}")
+        k = 1 if len(shape) == 1 else shape[1]
+
+        def prep(v):
+            if v is None:
+                return np.zeros((self.n, k))
+            v = np.asarray(v, dtype=float)
+            if v.shape != shape:
+                raise ConfigError(f"matvec: a and b must have the same shape, got {v.shape}")
+            return np.ascontiguousarray(v.reshape(self.n, k))
+
+        y = np.empty((self.n, k))
+        self._h.apply(prep(a), prep(b), y, self.threads)
+        return y.reshape(shape)
+
+    def entries(self, rows, cols) -> tuple[np.ndarray, np.ndarray]:
+        """Exact entries H[rows][:, cols] and G[rows][:, cols] from the element
+        integrals (for checks)."""
+        r = np.ascontiguousarray(rows, dtype=np.int64)
+        c = np.ascontiguousarray(cols, dtype=np.int64)
+        for name, v in (("rows", r), ("cols", c)):
+            if v.ndim != 1 or (v.size and (v.min() < 0 or v.max() >= self.n)):
+                raise ConfigError(f"entries: {name} must be dof indices in 0..{self.n - 1}")
+        return self._h.entries(r, c)
+
+    def diagonal_blocks(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """The dense diagonal leaves: [(nodes (s,), H (3s, 3s), G (3s, 3s))]."""
+        return self._h.diagonal_blocks()
+
+
+METHODS = ("auto", "dense", "hmatrix")
+
+
+@dataclass(frozen=True)
+class LinearSolverOptions:
+    """How a body's mixed BEM system is stored and solved.
+
+    Attributes
+    ----------
+    method:
+        ``"dense"``: dense H and G, LAPACK LU.  ``"hmatrix"``: H-matrix
+        operators (:class:`HMatrixOptions`), GMRES with a block-Jacobi
+        preconditioner.  ``"auto"``: dense up to ``dense_max_nodes`` functional
+        nodes, H-matrix above.
+    dense_max_nodes:
+        The ``"auto"`` threshold (docs/benchmarks.md has the measurements
+        behind it).
+    hmatrix:
+        Compression settings.
+    tolerance:
+        GMRES relative residual target.  Keep it below ``hmatrix.eps``: the
+        solution cannot be more accurate than the operators, and a tolerance
+        far below eps only costs iterations.
+    max_iterations, restart:
+        GMRES limits.
+    """
+
+    method: str = "auto"
+    dense_max_nodes: int = 6000
+    hmatrix: HMatrixOptions = HMatrixOptions()
+    tolerance: float = 1e-10
+    max_iterations: int = 1000
+    restart: int = 200
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise ConfigError(
+                f"LinearSolverOptions.method must be one of {list(METHODS)}, got {self.method!r}"
+            )
+        if not isinstance(self.hmatrix, HMatrixOptions):
+            raise ConfigError(
+                f"LinearSolverOptions.hmatrix must be HMatrixOptions, got "
+                f"{type(self.hmatrix).__name__}"
+            )
+        if not (isinstance(self.tolerance, (int, float)) and 0 < self.tolerance < 1):
+            raise ConfigError(
+                f"LinearSolverOptions.tolerance must be in (0, 1), got {self.tolerance!r}"
+            )
+        for name in ("dense_max_nodes", "max_iterations", "restart"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise ConfigError(f"LinearSolverOptions.{name} must be an integer >= 1, got {v!r}")
+
+    def use_hmatrix(self, n_points: int) -> bool:
+        if self.method == "auto":
+            return n_points > self.dense_max_nodes
+        return self.method == "hmatrix"
+
+
+@dataclass
+class IterativeSolve:
+    """Outcome of :func:`solve_mixed`: iterations, the preconditioned relative
+    residual history, and seconds per stage."""
+
+    iterations: int
+    residuals: list
+    timings: dict
+
+
+def solve_mixed(
+    op: CompressedInfluence,
+    known_u: np.ndarray,
+    values: np.ndarray,
+    border_cols: np.ndarray | None = None,
+    border_rows: np.ndarray | None = None,
+    border_rhs: np.ndarray | None = None,
+    *,
+    tolerance: float = 1e-10,
+    max_iterations: int = 1000,
+    restart: int = 200,
+    where: str = "",
+) -> tuple[np.ndarray, IterativeSolve]:
+    """Solve the mixed problem [[A, C], [R, 0]] [x; U] = [b; f] by GMRES.
+
+    A = H on traction-given dofs, -G on displacement-given ones (``known_u``
+    (3N,) bool), b = G t_known - H u_known from ``values`` (3N,); C (3N, k)
+    and R (k, 3N) border the system with extra unknowns (platen translations,
+    free rigid modes) and their equations, right-hand side ``border_rhs``.
+    Preconditioner: LU of A's dense diagonal leaf blocks.  Returns (x, info)
+    with x of length 3N + k.  Raises :class:`ConvergenceError` with the
+    residual history if GMRES does not reach ``tolerance``.
+    """
+    t0 = time.perf_counter()
+    n = op.n
+    ku = np.asarray(known_u, dtype=bool)
+    kt = ~ku
+    vals = np.asarray(values, dtype=float)
+    b = op.matvec(np.where(ku, -vals, 0.0), np.where(kt, vals, 0.0))
+    C = np.zeros((n, 0)) if border_cols is None else np.asarray(border_cols, dtype=float)
+    R = np.zeros((0, n)) if border_rows is None else np.asarray(border_rows, dtype=float)
+    f = np.zeros(0) if border_rhs is None else np.asarray(border_rhs, dtype=float)
+    k = C.shape[1]
+    if R.shape != (k, n) or f.shape != (k,):
+        raise ConfigError("solve_mixed: border_cols, border_rows and border_rhs do not match")
+    rhs = np.concatenate([b, f])
+
+    def apply(z):
+        z = np.asarray(z).ravel()
+        x = z[:n]
+        y = op.matvec(np.where(kt, x, 0.0), np.where(ku, -x, 0.0))
+        if k:
+            y = y + C @ z[n:]
+        return np.concatenate([y, R @ x])
+
+    # block Jacobi: LU of A's diagonal leaves (nodes are disjoint and cover all)
+    factors = []
+    for nodes, Hb, Gb in op.diagonal_blocks():
+        dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
+        Ab = np.where(ku[dofs][None, :], -Gb, Hb)
+        factors.append((dofs, scipy.linalg.lu_factor(Ab, check_finite=False)))
+    # the border: scale the extra unknowns to the residual's size
+    def precondition(z):
+        z = np.asarray(z).ravel()
+        out = z.copy()
+        for dofs, lu in factors:
+            out[dofs] = scipy.linalg.lu_solve(lu, z[dofs], check_finite=False)
+        return out
+
+    N = n + k
+    A_op = scipy.sparse.linalg.LinearOperator((N, N), matvec=apply, dtype=float)
+    M_op = scipy.sparse.linalg.LinearOperator((N, N), matvec=precondition, dtype=float)
+    t1 = time.perf_counter()
+    history: list[float] = []
+    x, info = scipy.sparse.linalg.gmres(
+        A_op, rhs, rtol=tolerance, atol=0.0, restart=min(restart, N), maxiter=max(1, math.ceil(max_iterations / max(1, min(restart, N)))),
+        M=M_op, callback=lambda r: history.append(float(r)), callback_type="pr_norm",
+    )
+    t2 = time.perf_counter()
+    res = float(np.linalg.norm(apply(x) - rhs) / max(np.linalg.norm(rhs), 1e-300))
+    out = IterativeSolve(len(history), history, {"preconditioner": t1 - t0, "gmres": t2 - t1})
+    if info != 0 or not res <= 100 * tolerance:
+        tail = ", ".join(f"{r:.2e}" for r in history[-10:])
+        raise ConvergenceError(
+            f"{where}GMRES did not converge in {len(history)} iterations: relative residual "
+            f"{res:.3e} > tolerance {tolerance:.1e}; last preconditioned residuals [{tail}]; "
+            "raise max_iterations, or use the dense solver for this size",
+            out,
+        )
+    return x, out
+
+
+__all__ = ["HMatrixOptions", "LinearSolverOptions", "CompressedInfluence", "IterativeSolve", "solve_mixed"]
