@@ -61,8 +61,16 @@ int local_index(const Element& e, int64_t node) {
 
 HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
                  double shear_modulus, double nu, const QuadratureParams& q, const HParams& hp,
+                 const uint8_t* known_u, const double* W, int64_t s, const Lapack& lapack,
                  int threads)
-    : n_(n_points), points_(points), K_(shear_modulus, nu), q_(q), hp_(hp), mu_(shear_modulus) {
+    : n_(n_points),
+      points_(points),
+      K_(shear_modulus, nu),
+      q_(q),
+      hp_(hp),
+      lapack_(lapack),
+      mu_(shear_modulus),
+      s_(s) {
   const auto t0 = std::chrono::steady_clock::now();
   els_ = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
   // functional node -> elements (CSR)
@@ -100,6 +108,13 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
   pts_.resize(3 * n_);
   for (int64_t p = 0; p < n_; ++p)
     for (int d = 0; d < 3; ++d) pts_[3 * p + d] = points[3 * perm_[p] + d];
+  ku_.resize(3 * n_);
+  w_.assign(3 * n_ * s_, 0.0);
+  for (int64_t p = 0; p < n_; ++p)
+    for (int c = 0; c < 3; ++c) {
+      ku_[3 * p + c] = known_u[3 * perm_[p] + c] ? 1 : 0;
+      if (s_) std::memcpy(&w_[(3 * p + c) * s_], W + (3 * perm_[p] + c) * s_, s_ * sizeof(double));
+    }
   build_blocks(0, 0, hp.eta);
   // fill, largest blocks first (dynamic schedule balances the rest)
   std::vector<int64_t> order(blocks_.size());
@@ -110,39 +125,42 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
     return sa > sb;
   });
   const int64_t nb = static_cast<int64_t>(blocks_.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-  for (int64_t t = 0; t < nb; ++t) {
-    HBlock& b = blocks_[order[t]];
-    if (b.rank < 0)
-      fill_dense(b);
-    else
-      fill_aca(b, 0x5eedull + static_cast<uint64_t>(order[t]));
-  }
-  // rigid-body translation: H_ii = -sum_{j != i} H_ij per component
-  std::vector<double> rs(9 * n_, 0.0);  // (3N x 3): row r, component c
-  for (const HBlock& b : blocks_) {
-    const HCluster& tau = clusters_[b.tau];
-    const HCluster& sig = clusters_[b.sigma];
-    const int64_t mr = 3 * tau.size(), nc = 3 * sig.size();
-    double* out = rs.data() + 3 * (3 * tau.begin);
-    if (b.rank < 0) {
-      for (int64_t r = 0; r < mr; ++r)
-        for (int64_t c = 0; c < nc; ++c) out[3 * r + c % 3] += b.H[r * nc + c];
-    } else {
-      for (int l = 0; l < b.rank; ++l) {
-        double s[3] = {0, 0, 0};
-        const double* v = b.VH.data() + l * nc;
-        for (int64_t c = 0; c < nc; ++c) s[c % 3] += v[c];
-        const double* u = b.U.data() + l * mr;
-        for (int64_t r = 0; r < mr; ++r)
-          for (int c = 0; c < 3; ++c) out[3 * r + c] += u[r] * s[c];
-      }
+  const int nt = std::max(threads, 1);
+  // thread-private B W (3N x s) and H row sums (3N x 3), permuted order
+  std::vector<std::vector<double>> bw_t(nt), rs_t(nt);
+#pragma omp parallel num_threads(nt)
+  {
+#ifdef _OPENMP
+    const int tid = omp_get_thread_num();
+#else
+    const int tid = 0;
+#endif
+    bw_t[tid].assign(3 * n_ * s_, 0.0);
+    rs_t[tid].assign(9 * n_, 0.0);
+#pragma omp for schedule(dynamic, 1)
+    for (int64_t t = 0; t < nb; ++t) {
+      HBlock& b = blocks_[order[t]];
+      if (b.rank < 0)
+        fill_dense(b, bw_t[tid].data(), rs_t[tid].data());
+      else
+        fill_aca(b, 0x5eedull + static_cast<uint64_t>(order[t]), bw_t[tid].data(),
+                 rs_t[tid].data());
     }
   }
+  // sum the threads in a fixed order (results independent of the schedule up
+  // to the order of two-term sums)
+  std::vector<double>& rs = rs_t[0];
+  std::vector<double>& bwp = bw_t[0];
+  for (int th = 1; th < nt; ++th) {
+    for (size_t i = 0; i < rs.size(); ++i) rs[i] += rs_t[th][i];
+    for (size_t i = 0; i < bwp.size(); ++i) bwp[i] += bw_t[th][i];
+  }
+  // rigid-body translation: H_ii = -sum_{j != i} H_ij per component
   diag_.assign(9 * n_, 0.0);
   for (int64_t p = 0; p < n_; ++p)
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) diag_[9 * p + 3 * r + c] = -rs[3 * (3 * p + r) + c];
+  // ... into A (traction-given columns) or B W (displacement-given: B = -H)
   for (HBlock& b : blocks_) {
     if (b.tau != b.sigma) continue;
     const HCluster& tau = clusters_[b.tau];
@@ -150,9 +168,23 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
     for (int64_t p = tau.begin; p < tau.end; ++p) {
       const int64_t lp = p - tau.begin;
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) b.H[(3 * lp + r) * nc + 3 * lp + c] = diag_[9 * p + 3 * r + c];
+        for (int c = 0; c < 3; ++c) {
+          const double h = diag_[9 * p + 3 * r + c];
+          if (!ku_[3 * p + c]) {
+            b.A[(3 * lp + r) * nc + 3 * lp + c] = h;
+          } else {
+            for (int64_t q2 = 0; q2 < s_; ++q2)
+              bwp[(3 * p + r) * s_ + q2] -= h * w_[(3 * p + c) * s_ + q2];
+          }
+        }
     }
   }
+  bw_.assign(3 * n_ * s_, 0.0);
+  for (int64_t p = 0; p < n_; ++p)
+    for (int c = 0; c < 3; ++c)
+      if (s_) std::memcpy(&bw_[(3 * perm_[p] + c) * s_], &bwp[(3 * p + c) * s_], s_ * sizeof(double));
+  w_.clear();
+  w_.shrink_to_fit();
   points_ = nullptr;
   build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -280,24 +312,34 @@ void HMatrix::node_cols(int64_t q, const HCluster& tau, double* out) const {
   }
 }
 
-void HMatrix::fill_dense(HBlock& b) const {
+void HMatrix::fill_dense(HBlock& b, double* bw, double* rs) const {
   const HCluster& tau = clusters_[b.tau];
   const HCluster& sig = clusters_[b.sigma];
-  const int64_t s = sig.size(), nc = 3 * s;
+  const int64_t s = sig.size(), nc = 3 * s, mr = 3 * tau.size();
   const std::vector<int64_t> elems = support_elements(sig);
   b.rank = -1;
-  b.H.assign(3 * tau.size() * nc, 0.0);
-  b.G.assign(3 * tau.size() * nc, 0.0);
+  b.A.assign(mr * nc, 0.0);
   b.U.clear();
-  b.VH.clear();
-  b.VG.clear();
+  b.V.clear();
   std::vector<double> row(3 * 6 * s);
+  const uint8_t* ku = ku_.data() + 3 * sig.begin;
+  const double* w = w_.data() + 3 * sig.begin * s_;
   for (int64_t p = tau.begin; p < tau.end; ++p) {
     node_rows(p, sig, elems, row.data());
     const int64_t r0 = 3 * (p - tau.begin);
     for (int r = 0; r < 3; ++r) {
-      std::memcpy(&b.H[(r0 + r) * nc], &row[r * 6 * s], nc * sizeof(double));
-      std::memcpy(&b.G[(r0 + r) * nc], &row[r * 6 * s + nc], nc * sizeof(double));
+      const double* h = &row[r * 6 * s];
+      const double* g = h + nc;
+      double* a = &b.A[(r0 + r) * nc];
+      double* y = bw + (3 * p + r) * s_;
+      double* sums = rs + 3 * (3 * p + r);
+      for (int64_t c = 0; c < nc; ++c) {
+        sums[c % 3] += h[c];
+        a[c] = ku[c] ? -g[c] : h[c];
+        const double bc = ku[c] ? -h[c] : g[c];
+        if (bc != 0.0)
+          for (int64_t q2 = 0; q2 < s_; ++q2) y[q2] += bc * w[c * s_ + q2];
+      }
     }
   }
 }
@@ -313,7 +355,7 @@ void HMatrix::fill_dense(HBlock& b) const {
 // against the approximation (the guard ACA+ gets from its reference row and
 // column), and a residual above the whole block's error budget restarts the
 // iteration at that node.
-void HMatrix::fill_aca(HBlock& b, uint64_t seed) const {
+void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
   const HCluster& tau = clusters_[b.tau];
   const HCluster& sig = clusters_[b.sigma];
   const int64_t m = 3 * tau.size(), nH = 3 * sig.size(), n = 2 * nH;
@@ -462,30 +504,121 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed) const {
     p = next;
   }
   if (dense) {
-    fill_dense(b);
+    fill_dense(b, bw, rs);
     return;
   }
   const int k = static_cast<int>(U.size());
+  b.aca_rank = k;
   b.rank = k;
   b.U.resize(m * k);
-  b.VH.resize(nH * k);
-  b.VG.resize(nH * k);
+  b.V.resize(nH * k);
+  const uint8_t* ku = ku_.data() + 3 * sig.begin;
+  const double* w = w_.data() + 3 * sig.begin * s_;
+  std::vector<double> t(std::max<int64_t>(s_, 1));
   for (int l = 0; l < k; ++l) {
     std::memcpy(&b.U[l * m], U[l].data(), m * sizeof(double));
-    std::memcpy(&b.VH[l * nH], V[l].data(), nH * sizeof(double));
-    for (int64_t c = 0; c < nH; ++c) b.VG[l * nH + c] = V[l][nH + c] / scale;
+    const double* vh = V[l].data();
+    const double* vg = vh + nH;
+    double* va = &b.V[l * nH];
+    double hs[3] = {0, 0, 0};
+    std::fill(t.begin(), t.end(), 0.0);
+    for (int64_t c = 0; c < nH; ++c) {
+      const double g = vg[c] / scale;
+      hs[c % 3] += vh[c];
+      va[c] = ku[c] ? -g : vh[c];
+      const double vb = ku[c] ? -vh[c] : g;
+      for (int64_t q2 = 0; q2 < s_; ++q2) t[q2] += vb * w[c * s_ + q2];
+    }
+    // H row sums and B W of this rank-one term
+    const double* ul = U[l].data();
+    for (int64_t r = 0; r < m; ++r) {
+      double* sums = rs + 3 * (3 * tau.begin + r);
+      for (int c = 0; c < 3; ++c) sums[c] += ul[r] * hs[c];
+      double* y = bw + (3 * tau.begin + r) * s_;
+      for (int64_t q2 = 0; q2 < s_; ++q2) y[q2] += ul[r] * t[q2];
+    }
   }
+  // recompress with A's G columns on the H scale again (else the SVD
+  // truncation, relative to the block norm, would drop them when mu is large)
+  for (int l = 0; l < k; ++l)
+    for (int64_t c = 0; c < nH; ++c)
+      if (ku[c]) b.V[l * nH + c] *= scale;
+  recompress(b, m, nH);
+  for (int l = 0; l < b.rank; ++l)
+    for (int64_t c = 0; c < nH; ++c)
+      if (ku[c]) b.V[l * nH + c] /= scale;
 }
 
-void HMatrix::apply(const double* a, const double* b, double* y, int64_t k, int threads) const {
-  const int64_t n3 = 3 * n_;
-  std::vector<double> ap(n3 * k), bp(n3 * k);
-  for (int64_t p = 0; p < n_; ++p)
-    for (int c = 0; c < 3; ++c) {
-      std::memcpy(&ap[(3 * p + c) * k], a + (3 * perm_[p] + c) * k, k * sizeof(double));
-      std::memcpy(&bp[(3 * p + c) * k], b + (3 * perm_[p] + c) * k, k * sizeof(double));
+// U V^T -> (Qu Ru)(Qv Rv)^T = Qu (Ru Rv^T) Qv^T; SVD of the k x k core,
+// truncated where the discarded singular values' 2-norm is below eps times
+// the whole (Frobenius) norm.
+void HMatrix::recompress(HBlock& b, int64_t m, int64_t n) const {
+  int k = b.rank;
+  if (!lapack_.ok() || k == 0 || k > m || k > n) return;
+  int im = static_cast<int>(m), in = static_cast<int>(n), info = 0;
+  std::vector<double> tu(k), tv(k), work(1);
+  int lwork = -1;
+  double wq = 0.0;
+  lapack_.dgeqrf(&im, &k, b.U.data(), &im, tu.data(), &wq, &lwork, &info);
+  lwork = std::max(static_cast<int>(wq), std::max(im, in) * 64);
+  work.resize(lwork);
+  lapack_.dgeqrf(&im, &k, b.U.data(), &im, tu.data(), work.data(), &lwork, &info);
+  if (info) return;
+  lapack_.dgeqrf(&in, &k, b.V.data(), &in, tv.data(), work.data(), &lwork, &info);
+  if (info) return;
+  // core = Ru Rv^T (upper triangular factors in the top k x k of U and V)
+  std::vector<double> core(k * k, 0.0);  // column-major
+  for (int j = 0; j < k; ++j)
+    for (int i = 0; i < k; ++i) {
+      double acc = 0.0;
+      for (int l = std::max(i, j); l < k; ++l) acc += b.U[l * m + i] * b.V[l * n + j];
+      core[j * k + i] = acc;
     }
-  int nt = std::max(threads, 1);
+  std::vector<double> sv(k), Wm(k * k), Zt(k * k);
+  char jobu = 'A', jobvt = 'A';
+  int lw = -1;
+  lapack_.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
+                 &wq, &lw, &info);
+  lw = std::max(static_cast<int>(wq), 1);
+  std::vector<double> work2(lw);
+  lapack_.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
+                 work2.data(), &lw, &info);
+  if (info) return;
+  double total = 0.0;
+  for (int i = 0; i < k; ++i) total += sv[i] * sv[i];
+  int r = k;
+  double tail = 0.0;
+  while (r > 0 && std::sqrt(tail + sv[r - 1] * sv[r - 1]) <= hp_.eps * std::sqrt(total)) {
+    tail += sv[r - 1] * sv[r - 1];
+    --r;
+  }
+  if (r == 0) r = 1;
+  // new U = Qu [W_r Sigma_r; 0], new V = Qv [Z_r; 0]
+  std::vector<double> nu(m * r, 0.0), nv(n * r, 0.0);
+  for (int j = 0; j < r; ++j)
+    for (int i = 0; i < k; ++i) {
+      nu[j * m + i] = Wm[j * k + i] * sv[j];
+      nv[j * n + i] = Zt[i * k + j];  // Z = Zt^T
+    }
+  char side = 'L', trans = 'N';
+  lapack_.dormqr(&side, &trans, &im, &r, &k, b.U.data(), &im, tu.data(), nu.data(), &im,
+                 work.data(), &lwork, &info);
+  if (info) return;
+  lapack_.dormqr(&side, &trans, &in, &r, &k, b.V.data(), &in, tv.data(), nv.data(), &in,
+                 work.data(), &lwork, &info);
+  if (info) return;
+  b.U.swap(nu);
+  b.V.swap(nv);
+  b.rank = r;
+}
+
+void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
+  const int64_t n3 = 3 * n_;
+  std::vector<double> xp(n3 * k);
+  for (int64_t p = 0; p < n_; ++p)
+    for (int c = 0; c < 3; ++c)
+      std::memcpy(&xp[(3 * p + c) * k], x + (3 * perm_[p] + c) * k, k * sizeof(double));
+  const int nt = std::max(threads, 1);
   std::vector<std::vector<double>> acc(nt);
   const int64_t nb = static_cast<int64_t>(blocks_.size());
 #pragma omp parallel num_threads(nt)
@@ -504,32 +637,27 @@ void HMatrix::apply(const double* a, const double* b, double* y, int64_t k, int 
       const HCluster& tau = clusters_[B.tau];
       const HCluster& sig = clusters_[B.sigma];
       const int64_t mr = 3 * tau.size(), nc = 3 * sig.size();
-      const double* as = ap.data() + 3 * sig.begin * k;
-      const double* bs = bp.data() + 3 * sig.begin * k;
+      const double* xs = xp.data() + 3 * sig.begin * k;
       double* yo = yt.data() + 3 * tau.begin * k;
       if (B.rank < 0) {
         for (int64_t r = 0; r < mr; ++r) {
-          const double* h = B.H.data() + r * nc;
-          const double* g = B.G.data() + r * nc;
+          const double* a = B.A.data() + r * nc;
           double* yr = yo + r * k;
           for (int64_t c = 0; c < nc; ++c) {
-            const double hc = h[c], gc = g[c];
-            const double* ac = as + c * k;
-            const double* bc = bs + c * k;
-            for (int64_t q = 0; q < k; ++q) yr[q] += hc * ac[q] + gc * bc[q];
+            const double ac = a[c];
+            const double* xc = xs + c * k;
+            for (int64_t q = 0; q < k; ++q) yr[q] += ac * xc[q];
           }
         }
       } else if (B.rank > 0) {
         const int rk = B.rank;
         t.assign(rk * k, 0.0);
         for (int l = 0; l < rk; ++l) {
-          const double* vh = B.VH.data() + l * nc;
-          const double* vg = B.VG.data() + l * nc;
+          const double* v = B.V.data() + l * nc;
           double* tl = t.data() + l * k;
           for (int64_t c = 0; c < nc; ++c) {
-            const double* ac = as + c * k;
-            const double* bc = bs + c * k;
-            for (int64_t q = 0; q < k; ++q) tl[q] += vh[c] * ac[q] + vg[c] * bc[q];
+            const double* xc = xs + c * k;
+            for (int64_t q = 0; q < k; ++q) tl[q] += v[c] * xc[q];
           }
         }
         for (int l = 0; l < rk; ++l) {
@@ -585,7 +713,7 @@ void HMatrix::entries(const int64_t* rows, int64_t nr, const int64_t* cols, int6
 
 int64_t HMatrix::stored_doubles() const {
   int64_t s = 0;
-  for (const HBlock& b : blocks_) s += b.H.size() + b.G.size() + b.U.size() + b.VH.size() + b.VG.size();
+  for (const HBlock& b : blocks_) s += b.A.size() + b.U.size() + b.V.size();
   return s;
 }
 

@@ -1,10 +1,13 @@
-// Hierarchical-matrix (H-matrix) form of a body's BEM influence matrices H
-// and G: a cluster tree on the functional nodes (3 unknowns per node kept
+// Hierarchical-matrix (H-matrix) form of a body's mixed BEM system matrix
+// A (H on traction-given columns, -G on displacement-given ones): a cluster tree on the functional nodes (3 unknowns per node kept
 // together), standard admissibility on the bounding boxes of the nodes'
 // element supports, low-rank blocks by adaptive cross approximation (ACA
 // with partial pivoting and random residual checks, on [H | s G] together),
 // dense near-field blocks.  Built straight from element integrals, never
-// from a dense matrix.
+// from a dense matrix.  The companion matrix B (G on traction-given columns,
+// -H on displacement-given ones; b = B * boundary values) is applied to a
+// given block of vectors W during the build and never stored.  Low-rank
+// blocks of A are recompressed (QR + SVD, LAPACK from SciPy) to A's own rank.
 #pragma once
 
 #include <cstdint>
@@ -16,10 +19,21 @@ namespace bemcontact {
 
 struct HParams {
   double eps = 1e-6;     // relative accuracy of each low-rank block (Frobenius)
-  double eta = 1.0;      // admissibility: min(diam) <= eta * dist
-  int leaf_size = 24;    // nodes per leaf cluster (at most)
+  double eta = 2.0;      // admissibility: min(diam) <= eta * dist
+  int leaf_size = 48;    // nodes per leaf cluster (at most)
   int max_rank = 0;      // 0: no cap
   int checks = 3;        // random residual rows/columns tested after ACA stops
+};
+
+// LAPACK routines (Fortran calling convention, 32-bit integers), taken from
+// scipy.linalg.cython_lapack at run time so that the build needs no LAPACK.
+struct Lapack {
+  void (*dgeqrf)(int*, int*, double*, int*, double*, double*, int*, int*) = nullptr;
+  void (*dormqr)(char*, char*, int*, int*, int*, double*, int*, double*, double*, int*,
+                 double*, int*, int*) = nullptr;
+  void (*dgesvd)(char*, char*, int*, int*, double*, int*, double*, double*, int*, double*,
+                 int*, double*, int*, int*) = nullptr;
+  bool ok() const { return dgeqrf && dormqr && dgesvd; }
 };
 
 struct HCluster {
@@ -33,24 +47,29 @@ struct HCluster {
 struct HBlock {
   int tau = 0, sigma = 0;  // row and column clusters
   int rank = -1;           // -1: dense
-  // dense: H, G row-major (3|tau|) x (3|sigma|); low rank: U (3|tau| x k),
-  // VH, VG (3|sigma| x k), all column-major by rank index (column l
-  // contiguous), so block = U VH^T (resp. U VG^T).
-  std::vector<double> H, G, U, VH, VG;
+  // dense: A row-major (3|tau|) x (3|sigma|); low rank: U (3|tau| x k),
+  // V (3|sigma| x k), column l contiguous, block = U V^T.
+  std::vector<double> A, U, V;
+  int aca_rank = 0;  // rank found by ACA on [H | s G] (before recompression)
   int aca_checks_failed = 0;
 };
 
 class HMatrix {
  public:
+  // known_u: (3N) 1 where the displacement is given; W: (3N x s) row-major
+  // vectors to multiply by B during the build (s may be 0).
   HMatrix(const MeshView& m, const double* points, int64_t n_points, double shear_modulus,
-          double nu, const QuadratureParams& q, const HParams& hp, int threads);
+          double nu, const QuadratureParams& q, const HParams& hp, const uint8_t* known_u,
+          const double* W, int64_t s, const Lapack& lapack, int threads);
 
   int64_t n_points() const { return n_; }
-  // y (3N x k, row-major, original dof order) = H a + G b  (a, b: 3N x k)
-  void apply(const double* a, const double* b, double* y, int64_t k, int threads) const;
-  // dense entries: rows and columns are original dof indices (sizes nr, nc):
-  // out_h, out_g row-major nr x nc (computed from element integrals, with
-  // the rigid-body diagonal of H) -- for tests and diagnostics.
+  // y (3N x k, row-major, original dof order) = A x
+  void apply(const double* x, double* y, int64_t k, int threads) const;
+  const std::vector<double>& bw() const { return bw_; }  // B W, (3N x s) original order
+  int64_t bw_columns() const { return s_; }
+  // exact entries of H and G: rows and columns are original dof indices (sizes
+  // nr, nc): out_h, out_g row-major nr x nc from element integrals, with the
+  // rigid-body diagonal of H (from the compressed row sums).
   void entries(const int64_t* rows, int64_t nr, const int64_t* cols, int64_t nc, double* out_h,
                double* out_g) const;
 
@@ -71,23 +90,32 @@ class HMatrix {
   // 3 columns (node q, permuted) of H and of G over cluster tau's rows: out
   // is (3 |tau|) x 6 row-major (H comps 0..2, then G comps 0..2).
   void node_cols(int64_t q, const HCluster& tau, double* out) const;
-  void fill_dense(HBlock& b) const;
-  void fill_aca(HBlock& b, uint64_t seed) const;
+  // fill block b; add its B W rows to bw and its H row sums to rs (both in
+  // permuted order, thread-private)
+  void fill_dense(HBlock& b, double* bw, double* rs) const;
+  void fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const;
+  // (truncation relative to the block norm; callers scale columns to one unit)
+  void recompress(HBlock& b, int64_t m, int64_t n) const;
   std::vector<int64_t> support_elements(const HCluster& c) const;
 
   int64_t n_ = 0;
-  const double* points_ = nullptr;  // original order (kept alive by the caller only during build)
+  const double* points_ = nullptr;  // original order, during the build only
   std::vector<double> pts_;         // permuted points (N x 3)
   std::vector<Element> els_;
   Kelvin K_;
   QuadratureParams q_;
   HParams hp_;
+  Lapack lapack_;
   double mu_ = 1.0;
-  std::vector<int64_t> perm_, pos_;           // permuted->original, original->permuted
-  std::vector<int64_t> n2e_ptr_, n2e_;        // functional node (original) -> elements
+  std::vector<uint8_t> ku_;  // permuted dof order
+  std::vector<double> w_;    // W in permuted dof order (during the build)
+  int64_t s_ = 0;
+  std::vector<int64_t> perm_, pos_;     // permuted->original, original->permuted
+  std::vector<int64_t> n2e_ptr_, n2e_;  // functional node (original) -> elements
   std::vector<HCluster> clusters_;
   std::vector<HBlock> blocks_;
   std::vector<double> diag_;  // rigid-body diagonal of H: (N x 3 x 3), permuted order
+  std::vector<double> bw_;    // B W, original order
   double build_s_ = 0.0;
 };
 

@@ -16,6 +16,7 @@ using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device
 using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
 using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using CInt64_1 = nb::ndarray<const int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+using CUInt8_1 = nb::ndarray<const uint8_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using CInt32_1 = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
 using Double2 = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using NpArray = nb::ndarray<nb::numpy, double>;
@@ -42,12 +43,32 @@ void bind_hmatrix(nb::module_& mod) {
       .def_rw("max_rank", &HParams::max_rank)
       .def_rw("checks", &HParams::checks);
 
+  nb::class_<Lapack>(mod, "Lapack")
+      .def(
+          "__init__",
+          [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd) {
+            auto ptr = [](nb::handle cap) {
+              PyObject* o = cap.ptr();
+              if (!PyCapsule_CheckExact(o)) throw nb::type_error("expected a capsule");
+              void* p = PyCapsule_GetPointer(o, PyCapsule_GetName(o));
+              if (!p) throw nb::python_error();
+              return p;
+            };
+            new (self) Lapack();
+            self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(ptr(dgeqrf));
+            self->dormqr = reinterpret_cast<decltype(self->dormqr)>(ptr(dormqr));
+            self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(ptr(dgesvd));
+          },
+          nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"),
+          "LAPACK routines from scipy.linalg.cython_lapack.__pyx_capi__ capsules.");
+
   nb::class_<HMatrix>(mod, "HMatrix")
       .def(
           "__init__",
           [](HMatrix* self, CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
              CDouble3 fxi, CDouble2 points, double shear_modulus, double nu,
-             const QuadratureParams& q, const HParams& hp, int threads) {
+             const QuadratureParams& q, const HParams& hp, CUInt8_1 known_u, CDouble2 W,
+             const Lapack& lapack, int threads) {
             MeshView m;
             m.nodes = nodes.data();
             m.n_nodes = static_cast<int64_t>(nodes.shape(0));
@@ -58,27 +79,39 @@ void bind_hmatrix(nb::module_& mod) {
             m.n_elements = static_cast<int64_t>(etype.shape(0));
             const double* pts = points.data();
             const int64_t n = static_cast<int64_t>(points.shape(0));
+            if (known_u.shape(0) != static_cast<size_t>(3 * n) ||
+                W.shape(0) != static_cast<size_t>(3 * n))
+              throw nb::value_error("known_u and W must have 3N rows");
+            const uint8_t* ku = known_u.data();
+            const double* w = W.data();
+            const int64_t s = static_cast<int64_t>(W.shape(1));
             nb::gil_scoped_release release;
-            new (self) HMatrix(m, pts, n, shear_modulus, nu, q, hp, threads);
+            new (self) HMatrix(m, pts, n, shear_modulus, nu, q, hp, ku, w, s, lapack, threads);
           },
           nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
           nb::arg("points"), nb::arg("shear_modulus"), nb::arg("nu"), nb::arg("q"),
-          nb::arg("hp"), nb::arg("threads"))
+          nb::arg("hp"), nb::arg("known_u"), nb::arg("W"), nb::arg("lapack"), nb::arg("threads"))
       .def_prop_ro("n_points", &HMatrix::n_points)
       .def_prop_ro("stored_doubles", &HMatrix::stored_doubles)
       .def_prop_ro("build_seconds", &HMatrix::build_seconds)
+      .def("bw",
+           [](const HMatrix& h) {
+             return owned_copy(h.bw().data(),
+                               {static_cast<size_t>(3 * h.n_points()),
+                                static_cast<size_t>(h.bw_columns())});
+           },
+           "B W computed during the build (3N x s).")
       .def(
           "apply",
-          [](const HMatrix& h, CDouble2 a, CDouble2 b, Double2 y, int threads) {
-            const int64_t k = static_cast<int64_t>(a.shape(1));
-            const double* pa = a.data();
-            const double* pb = b.data();
+          [](const HMatrix& h, CDouble2 x, Double2 y, int threads) {
+            const int64_t k = static_cast<int64_t>(x.shape(1));
+            const double* px = x.data();
             double* py = y.data();
             nb::gil_scoped_release release;
-            h.apply(pa, pb, py, k, threads);
+            h.apply(px, py, k, threads);
           },
-          nb::arg("a"), nb::arg("b"), nb::arg("y"), nb::arg("threads"),
-          "y = H a + G b (3N x k each, row-major, original dof order).")
+          nb::arg("x"), nb::arg("y"), nb::arg("threads"),
+          "y = A x (3N x k each, row-major, original dof order).")
       .def(
           "entries",
           [](const HMatrix& h, CInt64_1 rows, CInt64_1 cols) {
@@ -92,47 +125,44 @@ void bind_hmatrix(nb::module_& mod) {
       .def("block_info",
            [](const HMatrix& h) {
              // per block: tau begin, tau size, sigma begin, sigma size, rank (-1 dense),
-             // failed checks
+             // ACA rank before recompression, failed checks
              const auto& B = h.blocks();
              const auto& C = h.clusters();
-             std::vector<int64_t> out(6 * B.size());
+             std::vector<int64_t> out(7 * B.size());
              for (size_t i = 0; i < B.size(); ++i) {
-               out[6 * i] = C[B[i].tau].begin;
-               out[6 * i + 1] = C[B[i].tau].size();
-               out[6 * i + 2] = C[B[i].sigma].begin;
-               out[6 * i + 3] = C[B[i].sigma].size();
-               out[6 * i + 4] = B[i].rank;
-               out[6 * i + 5] = B[i].aca_checks_failed;
+               out[7 * i] = C[B[i].tau].begin;
+               out[7 * i + 1] = C[B[i].tau].size();
+               out[7 * i + 2] = C[B[i].sigma].begin;
+               out[7 * i + 3] = C[B[i].sigma].size();
+               out[7 * i + 4] = B[i].rank;
+               out[7 * i + 5] = B[i].aca_rank;
+               out[7 * i + 6] = B[i].aca_checks_failed;
              }
-             return owned_copy(out.data(), {B.size(), (size_t)6});
+             return owned_copy(out.data(), {B.size(), (size_t)7});
            })
       .def(
-          "block_matrices",
+          "block_matrix",
           [](const HMatrix& h, int64_t i) {
-            // block i as dense (H, G) in the cluster order (rows tau, cols sigma)
+            // block i of A as dense, rows and columns in cluster order
             const HBlock& b = h.blocks().at(static_cast<size_t>(i));
             const auto& C = h.clusters();
             const size_t m = 3 * C[b.tau].size(), n = 3 * C[b.sigma].size();
-            if (b.rank < 0)
-              return nb::make_tuple(owned_copy(b.H.data(), {m, n}), owned_copy(b.G.data(), {m, n}));
-            std::vector<double> H(m * n, 0.0), G(m * n, 0.0);
+            if (b.rank < 0) return owned_copy(b.A.data(), {m, n});
+            std::vector<double> A(m * n, 0.0);
             for (int l = 0; l < b.rank; ++l)
               for (size_t r = 0; r < m; ++r) {
                 const double u = b.U[l * m + r];
-                for (size_t c = 0; c < n; ++c) {
-                  H[r * n + c] += u * b.VH[l * n + c];
-                  G[r * n + c] += u * b.VG[l * n + c];
-                }
+                for (size_t c = 0; c < n; ++c) A[r * n + c] += u * b.V[l * n + c];
               }
-            return nb::make_tuple(owned_copy(H.data(), {m, n}), owned_copy(G.data(), {m, n}));
+            return owned_copy(A.data(), {m, n});
           },
-          nb::arg("i"), "Block i expanded to dense (H, G), rows and columns in cluster order.")
+          nb::arg("i"), "Block i of A expanded to dense (rows tau, columns sigma, cluster order).")
       .def("perm",
            [](const HMatrix& h) { return owned_copy(h.perm().data(), {h.perm().size()}); })
       .def(
           "diagonal_blocks",
           [](const HMatrix& h) {
-            // dense diagonal leaves: list of (original nodes, H, G)
+            // dense diagonal leaves of A: list of (original nodes, A block)
             nb::list out;
             const auto& C = h.clusters();
             for (const HBlock& b : h.blocks()) {
@@ -140,10 +170,9 @@ void bind_hmatrix(nb::module_& mod) {
               const HCluster& c = C[b.tau];
               const size_t s = c.size();
               out.append(nb::make_tuple(owned_copy(h.perm().data() + c.begin, {s}),
-                                        owned_copy(b.H.data(), {3 * s, 3 * s}),
-                                        owned_copy(b.G.data(), {3 * s, 3 * s})));
+                                        owned_copy(b.A.data(), {3 * s, 3 * s})));
             }
             return out;
           },
-          "The dense diagonal leaf blocks: [(nodes (s,), H (3s x 3s), G (3s x 3s))].");
+          "The dense diagonal leaf blocks of A: [(nodes (s,), A (3s x 3s))].");
 }

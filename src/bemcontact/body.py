@@ -19,7 +19,7 @@ import scipy.linalg
 
 from .errors import ConfigError
 from .material import LinearElastic
-from .hmatrix import CompressedInfluence, LinearSolverOptions, solve_mixed
+from .hmatrix import CompressedSystem, LinearSolverOptions, solve_mixed
 from .mesh import SurfaceMesh
 from .operators import (
     Discretization,
@@ -430,25 +430,32 @@ class ElasticBody:
         known_u, values = self.boundary_data()
         controls = self.controls()
         m = self.material
-        op = CompressedInfluence(
-            d, m.shear_modulus, m.poisson_ratio, self.quadrature, linear.hmatrix, threads
+        n = 3 * d.n_points
+        W = values[:, None]
+        if controls:
+            # columns of A for a unit translation of each platen: H E (E on
+            # displacement-given dofs, so B E = -H E)
+            E = np.zeros((n, len(controls)))
+            for k, c in enumerate(controls):
+                E[c.dofs, k] = 1.0
+            W = np.hstack([W, E])
+        op = CompressedSystem(
+            d, m.shear_modulus, m.poisson_ratio, known_u, W, self.quadrature, linear.hmatrix,
+            threads,
         )
+        BW = op.BW
         t1 = time.perf_counter()
-        n = op.n
         if not known_u.any():
             modes = self.rigid_modes()
             w3 = np.repeat(d.weights, 3)
             cols, rows, f = modes, (modes * w3[:, None]).T, np.zeros(6)
         elif controls:
-            E = np.zeros((n, len(controls)))
-            for k, c in enumerate(controls):
-                E[c.dofs, k] = 1.0
-            cols, rows = op.matvec(E, None), self.control_rows(controls)
+            cols, rows = -BW[:, 1:], self.control_rows(controls)
             f = np.array([c.force for c in controls])
         else:
             cols = rows = f = None
         x, info = solve_mixed(
-            op, known_u, values, cols, rows, f, tolerance=linear.tolerance,
+            op, BW[:, 0], cols, rows, f, tolerance=linear.tolerance,
             max_iterations=linear.max_iterations, restart=linear.restart,
             where=f"{self.name}: ",
         )

@@ -96,8 +96,22 @@ class HMatrixOptions:
         return h
 
 
-class CompressedInfluence:
-    """H and G of one body in H-matrix form (wraps the compiled ``HMatrix``).
+def _lapack():
+    from scipy.linalg import cython_lapack
+
+    caps = cython_lapack.__pyx_capi__
+    return _core().Lapack(caps["dgeqrf"], caps["dormqr"], caps["dgesvd"])
+
+
+class CompressedSystem:
+    """A body's mixed system matrix A in H-matrix form (wraps the compiled
+    ``HMatrix``).
+
+    A has the columns of H at traction-given dofs and of -G at
+    displacement-given ones (``known_u``); the companion B (G at
+    traction-given, -H at displacement-given dofs, so that b = B values) is
+    applied to the columns of ``W`` while the blocks are built and never
+    stored (:attr:`BW`).
 
     Parameters
     ----------
@@ -105,6 +119,10 @@ class CompressedInfluence:
         The body's :class:`~bemcontact.operators.Discretization`.
     shear_modulus, poisson_ratio:
         Material of the body.
+    known_u:
+        (3N,) bool: dofs with prescribed displacement (default: none, A = H).
+    W:
+        (3N,) or (3N, s) vectors to multiply by B (default: none).
     quadrature:
         Element integration settings (the same as the dense path's).
     options:
@@ -118,6 +136,8 @@ class CompressedInfluence:
         disc: Discretization,
         shear_modulus: float,
         poisson_ratio: float,
+        known_u: np.ndarray | None = None,
+        W: np.ndarray | None = None,
         quadrature: QuadratureOptions | None = None,
         options: HMatrixOptions | None = None,
         threads: int | None = None,
@@ -129,35 +149,53 @@ class CompressedInfluence:
         if self.threads < 1:
             raise ConfigError(f"threads must be >= 1, got {threads!r}")
         self.n_points = disc.n_points
+        n = 3 * disc.n_points
+        ku = np.zeros(n, dtype=bool) if known_u is None else np.asarray(known_u, dtype=bool)
+        if ku.shape != (n,):
+            raise ConfigError(f"known_u must have shape ({n},), got {ku.shape}")
+        self.known_u = ku
+        w = np.zeros((n, 0)) if W is None else np.asarray(W, dtype=float)
+        self._w_vector = w.ndim == 1
+        w = w.reshape(n, -1) if w.size or w.ndim == 1 else w
+        if w.ndim != 2 or w.shape[0] != n or not np.isfinite(w).all():
+            raise ConfigError(f"W must be finite with shape ({n},) or ({n}, s), got {np.shape(W)}")
         q = (quadrature or QuadratureOptions()).to_core()
         self._h = _core().HMatrix(
             *disc.core_arrays(), disc.points, float(shear_modulus), float(poisson_ratio), q,
-            self.options.to_core(), self.threads,
+            self.options.to_core(), np.ascontiguousarray(ku, dtype=np.uint8),
+            np.ascontiguousarray(w), _lapack(), self.threads,
         )
 
     # -- size
     @property
     def n(self) -> int:
-        """Rows (and columns) of H and of G: 3N."""
+        """Rows (and columns) of A: 3N."""
         return 3 * self.n_points
 
     @property
     def stored_bytes(self) -> int:
-        """Bytes held by the blocks (H and G together)."""
+        """Bytes held by the blocks of A."""
         return 8 * int(self._h.stored_doubles)
 
     @property
     def dense_bytes(self) -> int:
-        """Bytes one dense (3N)² matrix would need."""
+        """Bytes the dense (3N)² matrix A would need."""
         return 8 * self.n * self.n
 
     @property
     def build_seconds(self) -> float:
         return float(self._h.build_seconds)
 
+    @property
+    def BW(self) -> np.ndarray:
+        """B W, computed during the build: (3N,) or (3N, s) like W."""
+        bw = self._h.bw()
+        return bw[:, 0] if self._w_vector else bw
+
     def block_info(self) -> np.ndarray:
-        """(blocks, 6) int64: tau begin, tau size, sigma begin, sigma size (in
-        the cluster order, nodes), rank (-1 for dense), failed stop checks."""
+        """(blocks, 7) int64: tau begin, tau size, sigma begin, sigma size (in
+        the cluster order, nodes), rank (-1 for dense), ACA rank before
+        recompression, failed stop checks."""
         return self._h.block_info()
 
     def stats(self) -> dict:
@@ -168,38 +206,26 @@ class CompressedInfluence:
             "low_rank_blocks": int(lr.sum()),
             "max_rank": int(info[lr, 4].max()) if lr.any() else 0,
             "mean_rank": float(info[lr, 4].mean()) if lr.any() else 0.0,
-            "stored_mb": self.stored_bytes / 1e6,
+            "mean_aca_rank": float(info[lr, 5].mean()) if lr.any() else 0.0,
+            "compressed_mb": self.stored_bytes / 1e6,
             "dense_mb": self.dense_bytes / 1e6,
             "build_s": self.build_seconds,
         }
 
     # -- products
-    def matvec(self, a: np.ndarray | None, b: np.ndarray | None) -> np.ndarray:
-        """H a + G b for vectors (3N,) or blocks of columns (3N, k); either may
-        be None (zero)."""
-        ref = a if a is not None else b
-        if ref is None:
-            raise ConfigError("matvec needs a or b")
-        shape = np.shape(ref)
-        if shape[0] != self.n or len(shape) not in (1, 2):
-            raise ConfigError(f"matvec: expected shape ({self.n},) or ({self.n}, k), got {shape}")
-        k = 1 if len(shape) == 1 else shape[1]
-
-        def prep(v):
-            if v is None:
-                return np.zeros((self.n, k))
-            v = np.asarray(v, dtype=float)
-            if v.shape != shape:
-                raise ConfigError(f"matvec: a and b must have the same shape, got {v.shape}")
-            return np.ascontiguousarray(v.reshape(self.n, k))
-
-        y = np.empty((self.n, k))
-        self._h.apply(prep(a), prep(b), y, self.threads)
-        return y.reshape(shape)
+    def matvec(self, x: np.ndarray) -> np.ndarray:
+        """A x for a vector (3N,) or a block of columns (3N, k)."""
+        x = np.asarray(x, dtype=float)
+        if x.shape[:1] != (self.n,) or x.ndim not in (1, 2):
+            raise ConfigError(f"matvec: expected shape ({self.n},) or ({self.n}, k), got {x.shape}")
+        xx = np.ascontiguousarray(x.reshape(self.n, -1))
+        y = np.empty_like(xx)
+        self._h.apply(xx, y, self.threads)
+        return y.reshape(x.shape)
 
     def entries(self, rows, cols) -> tuple[np.ndarray, np.ndarray]:
         """Exact entries H[rows][:, cols] and G[rows][:, cols] from the element
-        integrals (for checks)."""
+        integrals (the diagonal 3x3 blocks of H from the compressed row sums)."""
         r = np.ascontiguousarray(rows, dtype=np.int64)
         c = np.ascontiguousarray(cols, dtype=np.int64)
         for name, v in (("rows", r), ("cols", c)):
@@ -207,8 +233,8 @@ class CompressedInfluence:
                 raise ConfigError(f"entries: {name} must be dof indices in 0..{self.n - 1}")
         return self._h.entries(r, c)
 
-    def diagonal_blocks(self) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-        """The dense diagonal leaves: [(nodes (s,), H (3s, 3s), G (3s, 3s))]."""
+    def diagonal_blocks(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """The dense diagonal leaves of A: [(nodes (s,), A (3s, 3s))]."""
         return self._h.diagonal_blocks()
 
 
@@ -282,9 +308,8 @@ class IterativeSolve:
 
 
 def solve_mixed(
-    op: CompressedInfluence,
-    known_u: np.ndarray,
-    values: np.ndarray,
+    op: CompressedSystem,
+    rhs: np.ndarray,
     border_cols: np.ndarray | None = None,
     border_rows: np.ndarray | None = None,
     border_rhs: np.ndarray | None = None,
@@ -294,45 +319,41 @@ def solve_mixed(
     restart: int = 200,
     where: str = "",
 ) -> tuple[np.ndarray, IterativeSolve]:
-    """Solve the mixed problem [[A, C], [R, 0]] [x; U] = [b; f] by GMRES.
+    """Solve [[A, C], [R, 0]] [x; U] = [rhs; f] by GMRES.
 
-    A = H on traction-given dofs, -G on displacement-given ones (``known_u``
-    (3N,) bool), b = G t_known - H u_known from ``values`` (3N,); C (3N, k)
-    and R (k, 3N) border the system with extra unknowns (platen translations,
-    free rigid modes) and their equations, right-hand side ``border_rhs``.
-    Preconditioner: LU of A's dense diagonal leaf blocks.  Returns (x, info)
-    with x of length 3N + k.  Raises :class:`ConvergenceError` with the
-    residual history if GMRES does not reach ``tolerance``.
+    A is ``op``'s system matrix, ``rhs`` (3N,) usually ``op.BW`` for W the
+    boundary values; C (3N, k) and R (k, 3N) border the system with extra
+    unknowns (platen translations, free rigid modes) and their equations,
+    right-hand side ``border_rhs`` (k,).  Preconditioner: LU of A's dense
+    diagonal leaf blocks (block Jacobi).  Returns (x, info) with x of length
+    3N + k.  Raises :class:`ConvergenceError` with the residual history if
+    GMRES does not reach ``tolerance``.
     """
     t0 = time.perf_counter()
     n = op.n
-    ku = np.asarray(known_u, dtype=bool)
-    kt = ~ku
-    vals = np.asarray(values, dtype=float)
-    b = op.matvec(np.where(ku, -vals, 0.0), np.where(kt, vals, 0.0))
+    b = np.asarray(rhs, dtype=float)
     C = np.zeros((n, 0)) if border_cols is None else np.asarray(border_cols, dtype=float)
     R = np.zeros((0, n)) if border_rows is None else np.asarray(border_rows, dtype=float)
     f = np.zeros(0) if border_rhs is None else np.asarray(border_rhs, dtype=float)
     k = C.shape[1]
-    if R.shape != (k, n) or f.shape != (k,):
-        raise ConfigError("solve_mixed: border_cols, border_rows and border_rhs do not match")
-    rhs = np.concatenate([b, f])
+    if b.shape != (n,) or R.shape != (k, n) or f.shape != (k,):
+        raise ConfigError("solve_mixed: rhs, border_cols, border_rows and border_rhs do not match")
+    full_rhs = np.concatenate([b, f])
 
     def apply(z):
         z = np.asarray(z).ravel()
-        x = z[:n]
-        y = op.matvec(np.where(kt, x, 0.0), np.where(ku, -x, 0.0))
+        y = op.matvec(z[:n])
         if k:
             y = y + C @ z[n:]
-        return np.concatenate([y, R @ x])
+        return np.concatenate([y, R @ z[:n]])
 
-    # block Jacobi: LU of A's diagonal leaves (nodes are disjoint and cover all)
+    # block Jacobi: LU of A's diagonal leaves (their nodes are disjoint and
+    # cover the body); the border unknowns are left as they are
     factors = []
-    for nodes, Hb, Gb in op.diagonal_blocks():
+    for nodes, Ab in op.diagonal_blocks():
         dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
-        Ab = np.where(ku[dofs][None, :], -Gb, Hb)
         factors.append((dofs, scipy.linalg.lu_factor(Ab, check_finite=False)))
-    # the border: scale the extra unknowns to the residual's size
+
     def precondition(z):
         z = np.asarray(z).ravel()
         out = z.copy()
@@ -345,12 +366,14 @@ def solve_mixed(
     M_op = scipy.sparse.linalg.LinearOperator((N, N), matvec=precondition, dtype=float)
     t1 = time.perf_counter()
     history: list[float] = []
+    rs = min(restart, N)
     x, info = scipy.sparse.linalg.gmres(
-        A_op, rhs, rtol=tolerance, atol=0.0, restart=min(restart, N), maxiter=max(1, math.ceil(max_iterations / max(1, min(restart, N)))),
-        M=M_op, callback=lambda r: history.append(float(r)), callback_type="pr_norm",
+        A_op, full_rhs, rtol=tolerance, atol=0.0, restart=rs,
+        maxiter=max(1, math.ceil(max_iterations / rs)), M=M_op,
+        callback=lambda r: history.append(float(r)), callback_type="pr_norm",
     )
     t2 = time.perf_counter()
-    res = float(np.linalg.norm(apply(x) - rhs) / max(np.linalg.norm(rhs), 1e-300))
+    res = float(np.linalg.norm(apply(x) - full_rhs) / max(np.linalg.norm(full_rhs), 1e-300))
     out = IterativeSolve(len(history), history, {"preconditioner": t1 - t0, "gmres": t2 - t1})
     if info != 0 or not res <= 100 * tolerance:
         tail = ", ".join(f"{r:.2e}" for r in history[-10:])
@@ -363,4 +386,4 @@ def solve_mixed(
     return x, out
 
 
-__all__ = ["HMatrixOptions", "LinearSolverOptions", "CompressedInfluence", "IterativeSolve", "solve_mixed"]
+__all__ = ["HMatrixOptions", "LinearSolverOptions", "CompressedSystem", "IterativeSolve", "solve_mixed"]
