@@ -1,6 +1,7 @@
 """The ``bemcontact`` command.  No numerics here: only the public API.
 
     bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
+    bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
     bemcontact --version
 
 Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
@@ -58,6 +59,26 @@ def _parser() -> argparse.ArgumentParser:
                      help="assembly threads (overrides solver.threads; default all cores)")
     run.add_argument("--quiet", action="store_true", help="print nothing on success")
     run.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    bench = sub.add_parser(
+        "bench", help="time a benchmark case (speed and accuracy)",
+        description="Benchmark cases (docs/benchmarks.md); prints one JSON record and writes "
+        "it to FILE with --json.",
+    )
+    bsub = bench.add_subparsers(dest="case", metavar="CASE", required=True)
+    one = bsub.add_parser(
+        "one-body", help="a cube with about N nodes and an exact linear solution",
+        description="A unit cube of quad4 elements with about N functional nodes, displacement "
+        "given on three faces and traction on the others, exact solution linear.",
+    )
+    one.add_argument("--nodes", metavar="N", type=_positive_int, required=True)
+    one.add_argument("--json", metavar="FILE", type=pathlib.Path, help="write the record here")
+    one.add_argument("--method", choices=("auto", "dense", "hmatrix"), default="auto",
+                     help="linear solver (default: auto, dense for small bodies)")
+    one.add_argument("--eps", metavar="E", type=float, default=1e-7,
+                     help="H-matrix block accuracy (default 1e-7)")
+    one.add_argument("--threads", metavar="N", type=_positive_int,
+                     help="threads (default: all cores, or OMP_NUM_THREADS)")
+    one.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     return p
 
 
@@ -67,9 +88,36 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_usage(sys.stderr)
-        print("bemcontact: error: a command is required (run)", file=sys.stderr)
+        print("bemcontact: error: a command is required (run, bench)", file=sys.stderr)
         return EXIT_INPUT
+    if args.command == "bench":
+        return _bench(args)
     return _run(args)
+
+
+def _bench(args: argparse.Namespace) -> int:
+    import json
+
+    from .bench import one_body
+    from .io import write_json
+
+    try:
+        if args.json is not None and not args.json.parent.is_dir():
+            _error(f"{args.json}: --json: directory {args.json.parent} does not exist")
+            return EXIT_INPUT
+        if not (0 < args.eps < 1):
+            _error(f"--eps: must be in (0, 1), got {args.eps!r}")
+            return EXIT_INPUT
+        record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads)
+        if args.json is not None:
+            write_json(args.json, record)
+    except (BemcontactError, OSError) as exc:
+        if args.debug:
+            raise
+        _error(str(exc))
+        return EXIT_INPUT
+    print(json.dumps(record, indent=2))
+    return EXIT_OK
 
 
 def _error(message: str) -> None:

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 import scipy.sparse.linalg
+import threadpoolctl
 
 from .errors import ConfigError, ConvergenceError
 from .operators import Discretization, QuadratureOptions
@@ -160,11 +161,15 @@ class CompressedSystem:
         if w.ndim != 2 or w.shape[0] != n or not np.isfinite(w).all():
             raise ConfigError(f"W must be finite with shape ({n},) or ({n}, s), got {np.shape(W)}")
         q = (quadrature or QuadratureOptions()).to_core()
-        self._h = _core().HMatrix(
-            *disc.core_arrays(), disc.points, float(shear_modulus), float(poisson_ratio), q,
-            self.options.to_core(), np.ascontiguousarray(ku, dtype=np.uint8),
-            np.ascontiguousarray(w), _lapack(), self.threads,
-        )
+        # the blocks are recompressed with LAPACK inside OpenMP threads: keep
+        # OpenBLAS single-threaded meanwhile (nested threading halved the
+        # build speed, measured)
+        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
+            self._h = _core().HMatrix(
+                *disc.core_arrays(), disc.points, float(shear_modulus), float(poisson_ratio), q,
+                self.options.to_core(), np.ascontiguousarray(ku, dtype=np.uint8),
+                np.ascontiguousarray(w), _lapack(), self.threads,
+            )
 
     # -- size
     @property

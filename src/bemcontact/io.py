@@ -146,6 +146,22 @@ def write_summary(
     return pathlib.Path(out_dir) / "summary.json"
 
 
+def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> pathlib.Path:
+    """Write ``data`` as JSON to ``path`` atomically (a temporary file in the
+    same directory, then a rename): an error never leaves a partial file."""
+    path = pathlib.Path(path)
+    if not path.parent.is_dir():
+        raise ConfigError(f"{path}: directory {path.parent} does not exist")
+    tmp = path.parent / f".{path.name}.tmp-{secrets.token_hex(4)}"
+    try:
+        _write_json(tmp, data)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
 def read_csv(path: str | os.PathLike) -> dict[str, np.ndarray]:
     """Columns of a CSV file written here, by header name (float64; ``state``
     as int8)."""

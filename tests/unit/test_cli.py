@@ -172,3 +172,29 @@ def test_issue_bad_input_classes(tmp_path, capsys, old, new, field, value):
     assert lines[0].startswith(f"bemcontact: error: {path}: {field}")
     assert value in lines[0]
     assert "Traceback" not in captured.err and not out.exists()
+
+
+def test_bench_one_body_writes_a_json_record(tmp_path, capsys):
+    import json
+
+    path = tmp_path / "one.json"
+    assert main(["bench", "one-body", "--nodes", "400", "--method", "hmatrix", "--eps", "1e-7",
+                 "--threads", "2", "--json", str(path)]) == 0
+    rec = json.loads(path.read_text())
+    assert rec == json.loads(capsys.readouterr().out)
+    # 6 n^2 + 36 n - 18 nodes with n = 6: 414
+    assert rec["nodes"] == 414 and rec["unknowns"] == 3 * 414 and rec["method"] == "hmatrix"
+    for key in ("assembly_s", "factor_s", "solve_s", "newton_s", "newton_iterations",
+                "peak_rss_mb", "compressed_mb", "dense_mb", "error", "normal_force", "threads",
+                "commit"):
+        assert key in rec
+    # exact linear field: the error is the H-matrix's, a few eps (measured 2e-7)
+    assert rec["error"] < 1e-5 and rec["threads"] == 2
+
+
+def test_bench_bad_arguments_exit_2(tmp_path, capsys):
+    assert main(["bench", "one-body", "--nodes", "400", "--json", str(tmp_path / "no" / "x.json")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["bench", "one-body", "--nodes", "400", "--eps", "2"]) == 2
+    assert "--eps" in capsys.readouterr().err
+    assert not (tmp_path / "no").exists()
