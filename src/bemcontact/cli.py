@@ -2,6 +2,7 @@
 
     bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
+    bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--json FILE]
     bemcontact --version
 
 Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
@@ -64,7 +65,7 @@ def _parser() -> argparse.ArgumentParser:
         description="Benchmark cases (docs/benchmarks.md); prints one JSON record and writes "
         "it to FILE with --json.",
     )
-    bsub = bench.add_subparsers(dest="case", metavar="CASE", required=True)
+    bsub = bench.add_subparsers(dest="bench_case", metavar="CASE", required=True)
     one = bsub.add_parser(
         "one-body", help="a cube with about N nodes and an exact linear solution",
         description="A unit cube of quad4 elements with about N functional nodes, displacement "
@@ -79,6 +80,17 @@ def _parser() -> argparse.ArgumentParser:
     one.add_argument("--threads", metavar="N", type=_positive_int,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     one.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    two = bsub.add_parser(
+        "two-cubes", help="the founding paper's two cubes, K x K elements per face",
+        description="The paper's two cubes (non-matching interface meshes K and K-1), whole "
+        "run timed, normal force reported.",
+    )
+    two.add_argument("--divisions", metavar="K", type=_positive_int, required=True)
+    two.add_argument("--case", choices=("similar", "dissimilar"), default="dissimilar")
+    two.add_argument("--json", metavar="FILE", type=pathlib.Path, help="write the record here")
+    two.add_argument("--threads", metavar="N", type=_positive_int,
+                     help="threads (default: all cores, or OMP_NUM_THREADS)")
+    two.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     return p
 
 
@@ -98,17 +110,20 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _bench(args: argparse.Namespace) -> int:
     import json
 
-    from .bench import one_body
+    from .bench import one_body, two_cubes
     from .io import write_json
 
     try:
         if args.json is not None and not args.json.parent.is_dir():
             _error(f"{args.json}: --json: directory {args.json.parent} does not exist")
             return EXIT_INPUT
-        if not (0 < args.eps < 1):
-            _error(f"--eps: must be in (0, 1), got {args.eps!r}")
-            return EXIT_INPUT
-        record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads)
+        if args.bench_case == "one-body":
+            if not (0 < args.eps < 1):
+                _error(f"--eps: must be in (0, 1), got {args.eps!r}")
+                return EXIT_INPUT
+            record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads)
+        else:
+            record = two_cubes(args.divisions, args.case, threads=args.threads)
         if args.json is not None:
             write_json(args.json, record)
     except (BemcontactError, OSError) as exc:

@@ -198,3 +198,16 @@ def test_bench_bad_arguments_exit_2(tmp_path, capsys):
     assert main(["bench", "one-body", "--nodes", "400", "--eps", "2"]) == 2
     assert "--eps" in capsys.readouterr().err
     assert not (tmp_path / "no").exists()
+
+
+def test_bench_two_cubes_record(tmp_path):
+    import json
+
+    path = tmp_path / "two.json"
+    assert main(["bench", "two-cubes", "--divisions", "3", "--case", "dissimilar", "--json",
+                 str(path)]) == 0
+    rec = json.loads(path.read_text())
+    assert rec["case"] == "two-cubes-dissimilar" and rec["divisions"] == 3
+    assert rec["newton_iterations"] >= 1 and 0 < rec["newton_fraction"] < 1
+    # the paper's bounds for the dissimilar cubes (docs/validation.md): 800-1077 N
+    assert 800 < rec["normal_force"] < 1077
