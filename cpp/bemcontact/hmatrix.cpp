@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <unordered_map>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -140,11 +141,22 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
 #pragma omp for schedule(dynamic, 1)
     for (int64_t t = 0; t < nb; ++t) {
       HBlock& b = blocks_[order[t]];
-      if (b.rank < 0)
+      const auto tb = std::chrono::steady_clock::now();
+      const bool was_dense = b.rank < 0;
+      if (was_dense)
         fill_dense(b, bw_t[tid].data(), rs_t[tid].data());
       else
         fill_aca(b, 0x5eedull + static_cast<uint64_t>(order[t]), bw_t[tid].data(),
                  rs_t[tid].data());
+      const double dt =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - tb).count();
+      if (was_dense) {
+#pragma omp atomic
+        dense_s_ += dt;
+      } else {
+#pragma omp atomic
+        aca_s_ += dt;
+      }
     }
   }
   // sum the threads in a fixed order (results independent of the schedule up
@@ -269,6 +281,8 @@ void HMatrix::node_rows(int64_t p, const HCluster& sigma, const std::vector<int6
   const double* x = pts_.data() + 3 * p;
   const int64_t i = perm_[p];
   double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
+#pragma omp atomic
+  row_integrals_ += static_cast<int64_t>(elems.size());
   for (int64_t ie : elems) {
     const Element& e = els_[ie];
     const int ld = 3 * e.n;
@@ -288,25 +302,56 @@ void HMatrix::node_rows(int64_t p, const HCluster& sigma, const std::vector<int6
   }
 }
 
-void HMatrix::node_cols(int64_t q, const HCluster& tau, double* out) const {
+void HMatrix::node_cols(int64_t q, const HCluster& tau, double* out,
+                        std::unordered_map<int64_t, std::vector<double>>* cache) const {
   const int64_t mt = tau.size();
   std::fill(out, out + 3 * mt * 6, 0.0);
   const int64_t j = perm_[q];
   double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
   for (int64_t a = n2e_ptr_[j]; a < n2e_ptr_[j + 1]; ++a) {
-    const Element& e = els_[n2e_[a]];
+    const int64_t ie = n2e_[a];
+    const Element& e = els_[ie];
     const int kj = local_index(e, j);
     const int ld = 3 * e.n;
+    // the element's influence on every point of tau (all its nodes' columns):
+    // neighbouring pivot nodes share elements
+    std::vector<double>* block = nullptr;
+    if (cache) {
+      auto it = cache->find(ie);
+      if (it == cache->end()) {
+        std::vector<double>& v = (*cache)[ie];
+        v.assign(mt * 6 * ld, 0.0);
+#pragma omp atomic
+        col_integrals_ += mt;
+        for (int64_t p = tau.begin; p < tau.end; ++p) {
+          double* h = v.data() + (p - tau.begin) * 6 * ld;
+          element_influence(e, pts_.data() + 3 * p, local_index(e, perm_[p]), K_, q_, true, true,
+                            h, h + 3 * ld);
+        }
+        block = &v;
+      } else {
+        block = &it->second;
+      }
+    }
     for (int64_t p = tau.begin; p < tau.end; ++p) {
-      std::fill(He, He + 3 * ld, 0.0);
-      std::fill(Ge, Ge + 3 * ld, 0.0);
-      element_influence(e, pts_.data() + 3 * p, local_index(e, perm_[p]), K_, q_, true, true,
-                        He, Ge);
+      const double* h;
+      const double* g;
+      if (block) {
+        h = block->data() + (p - tau.begin) * 6 * ld;
+        g = h + 3 * ld;
+      } else {
+        std::fill(He, He + 3 * ld, 0.0);
+        std::fill(Ge, Ge + 3 * ld, 0.0);
+        element_influence(e, pts_.data() + 3 * p, local_index(e, perm_[p]), K_, q_, true, true,
+                          He, Ge);
+        h = He;
+        g = Ge;
+      }
       double* o = out + 3 * (p - tau.begin) * 6;
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) {
-          o[r * 6 + c] += He[r * ld + 3 * kj + c];
-          o[r * 6 + 3 + c] += Ge[r * ld + 3 * kj + c];
+          o[r * 6 + c] += h[r * ld + 3 * kj + c];
+          o[r * 6 + 3 + c] += g[r * ld + 3 * kj + c];
         }
     }
   }
@@ -364,6 +409,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
   // node rows (3 x n) and node columns (m x 6) computed so far: one element
   // integration serves the three components (and H and G) at once
   std::vector<std::vector<double>> row_cache(tau.size()), col_cache(sig.size());
+  std::unordered_map<int64_t, std::vector<double>> elem_cache;
   std::vector<std::vector<double>> U, V;
   std::vector<char> row_used(m, 0), col_used(n, 0), node_done(tau.size(), 0);
   uint64_t rng = seed;
@@ -394,7 +440,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
     std::vector<double>& colbuf = col_cache[qn];
     if (colbuf.empty()) {
       colbuf.resize(m * 6);
-      node_cols(sig.begin + qn, tau, colbuf.data());
+      node_cols(sig.begin + qn, tau, colbuf.data(), &elem_cache);
     }
     const bool g = j >= nH;
     const int comp = static_cast<int>(jj % 3) + (g ? 3 : 0);

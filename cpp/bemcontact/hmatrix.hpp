@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "operators.hpp"
@@ -78,6 +79,12 @@ class HMatrix {
   const std::vector<int64_t>& perm() const { return perm_; }  // permuted -> original node
   int64_t stored_doubles() const;
   double build_seconds() const { return build_s_; }
+  // thread-seconds spent filling dense and low-rank blocks; element integrals
+  // evaluated for node rows and node columns
+  double dense_seconds() const { return dense_s_; }
+  double aca_seconds() const { return aca_s_; }
+  int64_t row_integrals() const { return row_integrals_; }
+  int64_t col_integrals() const { return col_integrals_; }
 
  private:
   int build_cluster(int64_t begin, int64_t end, const std::vector<double>& sup_lo,
@@ -89,7 +96,9 @@ class HMatrix {
                  double* out) const;
   // 3 columns (node q, permuted) of H and of G over cluster tau's rows: out
   // is (3 |tau|) x 6 row-major (H comps 0..2, then G comps 0..2).
-  void node_cols(int64_t q, const HCluster& tau, double* out) const;
+  // With `cache`, each element's influence on tau is computed once and kept.
+  void node_cols(int64_t q, const HCluster& tau, double* out,
+                 std::unordered_map<int64_t, std::vector<double>>* cache = nullptr) const;
   // fill block b; add its B W rows to bw and its H row sums to rs (both in
   // permuted order, thread-private)
   void fill_dense(HBlock& b, double* bw, double* rs) const;
@@ -117,6 +126,8 @@ class HMatrix {
   std::vector<double> diag_;  // rigid-body diagonal of H: (N x 3 x 3), permuted order
   std::vector<double> bw_;    // B W, original order
   double build_s_ = 0.0;
+  double dense_s_ = 0.0, aca_s_ = 0.0;
+  mutable int64_t row_integrals_ = 0, col_integrals_ = 0;
 };
 
 }  // namespace bemcontact

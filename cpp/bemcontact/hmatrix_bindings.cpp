@@ -94,6 +94,10 @@ void bind_hmatrix(nb::module_& mod) {
       .def_prop_ro("n_points", &HMatrix::n_points)
       .def_prop_ro("stored_doubles", &HMatrix::stored_doubles)
       .def_prop_ro("build_seconds", &HMatrix::build_seconds)
+      .def_prop_ro("dense_seconds", &HMatrix::dense_seconds)
+      .def_prop_ro("aca_seconds", &HMatrix::aca_seconds)
+      .def_prop_ro("row_integrals", &HMatrix::row_integrals)
+      .def_prop_ro("col_integrals", &HMatrix::col_integrals)
       .def("bw",
            [](const HMatrix& h) {
              return owned_copy(h.bw().data(),
