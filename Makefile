@@ -38,6 +38,7 @@ test-fast: install
 
 bench: install
 	$(PY) benchmarks/bem_one_body_N500_5000.py
+	$(PY) benchmarks/scaling.py
 
 clean:
 	rm -rf build $(VENV)

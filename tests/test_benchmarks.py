@@ -37,3 +37,14 @@ def test_two_cubes_benchmark_smoke():
     for k in ("assembly_s", "condensation_s", "frame_s", "newton_s", "total_s", "peak_rss_mb"):
         assert row[k] > 0, k
     assert row["total_s"] >= row["assembly_s"] + row["newton_s"]
+
+
+def test_scaling_script_smoke(capsys):
+    spec = importlib.util.spec_from_file_location("b3", BENCH / "scaling.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    mod.main(["--sizes", "150,400", "--cubes", "3", "--no-write"])
+    out = capsys.readouterr().out
+    assert "Fitted exponents over 144–414 nodes" in out
+    assert "| 3 | 222 |" in out  # two cubes K = 3: 144 + 78 nodes
+    assert abs(mod.fit([1, 2, 4], [3, 12, 48]) - 2.0) < 1e-12
