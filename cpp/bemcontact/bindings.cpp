@@ -91,6 +91,42 @@ NB_MODULE(_core, mod) {
       "Fill H and G (3N x 3N, row-major) for collocation at `points` (N x 3).");
 
   mod.def(
+      "assemble_system",
+      [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
+         CDouble2 points, double shear_modulus, double nu, const QuadratureParams& q,
+         nb::ndarray<const uint8_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> known_u,
+         CDouble2 W, CInt64_1 bcols, int threads,
+         nb::ndarray<double, nb::ndim<2>, nb::f_contig, nb::device::cpu> A, Double2 BW,
+         Double2 BC) {
+        const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
+        const int64_t n = static_cast<int64_t>(points.shape(0));
+        if (known_u.shape(0) != static_cast<size_t>(3 * n) || W.shape(0) != known_u.shape(0) ||
+            A.shape(0) < known_u.shape(0) || A.shape(1) < known_u.shape(0) ||
+            BW.shape(0) != known_u.shape(0) || BW.shape(1) != W.shape(1) ||
+            BC.shape(0) != known_u.shape(0) || BC.shape(1) != bcols.shape(0))
+          throw nb::value_error("assemble_system: inconsistent shapes");
+        const double* pts = points.data();
+        const uint8_t* ku = known_u.data();
+        const double* w = W.data();
+        const int64_t s = static_cast<int64_t>(W.shape(1));
+        const int64_t* bc = bcols.data();
+        const int64_t nbc = static_cast<int64_t>(bcols.shape(0));
+        double* a = A.data();
+        const int64_t lda = static_cast<int64_t>(A.shape(0));
+        double* bw = BW.data();
+        double* bcp = BC.data();
+        nb::gil_scoped_release release;
+        assemble_system(m, pts, n, shear_modulus, nu, q, ku, w, s, bc, nbc, threads, a, lda, bw,
+                        bcp);
+      },
+      nb::arg("nodes"), nb::arg("etype"), nb::arg("conn"), nb::arg("fconn"), nb::arg("fxi"),
+      nb::arg("points"), nb::arg("shear_modulus"), nb::arg("nu"), nb::arg("q"),
+      nb::arg("known_u"), nb::arg("W"), nb::arg("bcols"), nb::arg("threads"), nb::arg("A"),
+      nb::arg("BW"), nb::arg("BC"),
+      "Mixed system matrix A (column-major, top-left 3N x 3N block of the given array), "
+      "B W and the columns bcols of B, without storing H and G.");
+
+  mod.def(
       "element_influence",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
          int64_t element, CDouble2 x, int local, double shear_modulus, double nu,

@@ -376,4 +376,69 @@ void assemble_influence(const MeshView& m, const double* points, int64_t n_point
   }
 }
 
+void assemble_system(const MeshView& m, const double* points, int64_t n_points,
+                     double shear_modulus, double nu, const QuadratureParams& q,
+                     const uint8_t* known_u, const double* W, int64_t s, const int64_t* bcols,
+                     int64_t nb, int threads, double* A, int64_t lda, double* BW, double* BC) {
+  const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
+  const Kelvin K(shear_modulus, nu);
+  const int64_t ncol = 3 * n_points;
+#pragma omp parallel num_threads(threads)
+  {
+    double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
+    std::vector<double> Hrow(3 * ncol), Grow(3 * ncol);
+#pragma omp for schedule(dynamic, 4)
+    for (int64_t i = 0; i < n_points; ++i) {
+      const double* x = points + 3 * i;
+      std::fill(Hrow.begin(), Hrow.end(), 0.0);
+      std::fill(Grow.begin(), Grow.end(), 0.0);
+      for (const Element& e : els) {
+        int local = -1;
+        for (int k = 0; k < e.n; ++k)
+          if (e.f[k] == i) local = k;
+        const int ld = 3 * e.n;
+        std::fill(He, He + 3 * ld, 0.0);
+        std::fill(Ge, Ge + 3 * ld, 0.0);
+        element_influence(e, x, local, K, q, true, true, He, Ge);
+        for (int r = 0; r < 3; ++r)
+          for (int k = 0; k < e.n; ++k) {
+            const int64_t col = 3 * e.f[k];
+            for (int j = 0; j < 3; ++j) {
+              Hrow[r * ncol + col + j] += He[r * ld + 3 * k + j];
+              Grow[r * ncol + col + j] += Ge[r * ld + 3 * k + j];
+            }
+          }
+      }
+      for (int r = 0; r < 3; ++r) {
+        double* h = Hrow.data() + r * ncol;
+        const double* g = Grow.data() + r * ncol;
+        // rigid-body translation: free term + principal value of the diagonal block
+        for (int j = 0; j < 3; ++j) {
+          double acc = 0.0;
+          for (int64_t c = j; c < ncol; c += 3) acc += h[c];
+          h[3 * i + j] = -acc;
+        }
+        const int64_t row = 3 * i + r;
+        // A column-major (leading dimension lda): A[row, c]
+        for (int64_t c = 0; c < ncol; ++c) A[row + lda * c] = known_u[c] ? -g[c] : h[c];
+        // B = G on traction-given columns, -H on displacement-given ones
+        if (s > 0) {
+          double* y = BW + row * s;
+          std::fill(y, y + s, 0.0);
+          for (int64_t c = 0; c < ncol; ++c) {
+            const double b = known_u[c] ? -h[c] : g[c];
+            if (b == 0.0) continue;
+            const double* w = W + c * s;
+            for (int64_t t = 0; t < s; ++t) y[t] += b * w[t];
+          }
+        }
+        for (int64_t t = 0; t < nb; ++t) {
+          const int64_t c = bcols[t];
+          BC[row * nb + t] = known_u[c] ? -h[c] : g[c];
+        }
+      }
+    }
+  }
+}
+
 }  // namespace bemcontact

@@ -26,6 +26,7 @@ from .operators import (
     DiscretizationOptions,
     QuadratureOptions,
     assemble_influence,
+    assemble_system,
     discretize,
 )
 
@@ -144,6 +145,9 @@ class BodySolution:
     region: (N,) region index per node; ``region_names`` the names.
     discretization: the :class:`~bemcontact.operators.Discretization`.
     timings: seconds per stage (assembly, solve).
+    solver: how the system was solved: ``method`` ("dense" or "hmatrix"), and
+        for "hmatrix" the GMRES ``iterations`` and ``residuals`` and the
+        compression figures of :meth:`~bemcontact.hmatrix.CompressedSystem.stats`.
     """
 
     points: np.ndarray
@@ -342,13 +346,14 @@ class ElasticBody:
                         out.append(Control(region, c, 3 * idx + c, float(bc.value[c])))
         return out
 
-    def control_columns(self, H: np.ndarray, controls: Sequence[Control]) -> np.ndarray:
-        """(3N, k): the column of each platen translation U in the mixed
-        system A x + C U = b, i.e. H times a unit translation of the
-        controlled component (take it before :meth:`_mixed_system` reuses H)."""
-        if not controls:
-            return np.zeros((H.shape[0], 0))
-        return np.column_stack([H[:, c.dofs].sum(axis=1) for c in controls])
+    def control_indicators(self, controls: Sequence[Control]) -> np.ndarray:
+        """(3N, k): a unit translation of each controlled component (its
+        dofs set to 1).  B of the mixed system maps it to minus the column of
+        the platen's translation, -H E."""
+        E = np.zeros((3 * self.discretization.n_points, len(controls)))
+        for k, c in enumerate(controls):
+            E[c.dofs, k] = 1.0
+        return E
 
     def control_rows(self, controls: Sequence[Control]) -> np.ndarray:
         """(k, 3N): the resultant of the (unknown) tractions on each
@@ -406,18 +411,28 @@ class ElasticBody:
         t0 = time.perf_counter()
         known_u, values = self.boundary_data()
         controls = self.controls()
-        H, G = self.assemble(threads)
-        t1 = time.perf_counter()
-        Hc = self.control_columns(H, controls)
-        A, b = self._mixed_system(H, G, known_u, values)
-        del G
+        n = 3 * d.n_points
         free = not known_u.any()
+        E = self.control_indicators(controls)
+        k = 6 if free else E.shape[1]
+        m = self.material
+        # A in place (with room for the border), b = B values, B E = -H E
+        A, BW, _ = assemble_system(
+            d, m.shear_modulus, m.poisson_ratio, known_u, np.column_stack([values, E]),
+            quadrature=self.quadrature, threads=threads, border=k,
+        )
+        t1 = time.perf_counter()
+        b = BW[:, 0]
         if free:
-            A = self._bordered(A, self.rigid_modes())
+            # rigid modes as extra unknowns, zero weighted mean motion as rows
+            modes = self.rigid_modes()
+            A[:n, n:] = modes
+            A[n:, :n] = (modes * np.repeat(d.weights, 3)[:, None]).T
             b = np.concatenate([b, np.zeros(6)])
         elif controls:
             # the platens' translations as extra unknowns, their resultants as rows
-            A = self._border(A, Hc, self.control_rows(controls))
+            A[:n, n:] = -BW[:, 1:]
+            A[n:, :n] = self.control_rows(controls)
             b = np.concatenate([b, [c.force for c in controls]])
         x = self._lu_solve(A, b)
         t2 = time.perf_counter()
@@ -431,14 +446,9 @@ class ElasticBody:
         controls = self.controls()
         m = self.material
         n = 3 * d.n_points
-        W = values[:, None]
-        if controls:
-            # columns of A for a unit translation of each platen: H E (E on
-            # displacement-given dofs, so B E = -H E)
-            E = np.zeros((n, len(controls)))
-            for k, c in enumerate(controls):
-                E[c.dofs, k] = 1.0
-            W = np.hstack([W, E])
+        # columns of A for a unit translation of each platen: H E (E on
+        # displacement-given dofs, so B E = -H E)
+        W = np.column_stack([values, self.control_indicators(controls)])
         op = CompressedSystem(
             d, m.shear_modulus, m.poisson_ratio, known_u, W, self.quadrature, linear.hmatrix,
             threads,
@@ -488,43 +498,16 @@ class ElasticBody:
             solver=solver,
         )
 
-    @staticmethod
-    def _mixed_system(H: np.ndarray, G: np.ndarray, known_u: np.ndarray, values: np.ndarray):
-        """(A, b) of the mixed problem A x = b: A is H with the known-u columns
-        replaced by -G (in place over H), b = G t_known - H u_known."""
-        ku = np.flatnonzero(known_u)
-        kt = np.flatnonzero(~known_u)
-        b = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]
-        H[:, ku] = -G[:, ku]
-        return H, b
-
-    def _bordered(self, A: np.ndarray, modes: np.ndarray) -> np.ndarray:
-        """[[A, R], [(w R)^T, 0]]: the rigid modes R (3N, k) as extra unknowns,
-        with zero weighted mean of the solution in those modes."""
-        w3 = np.repeat(self.discretization.weights, 3)
-        return self._border(A, modes, (modes * w3[:, None]).T)
-
-    @staticmethod
-    def _border(A: np.ndarray, cols: np.ndarray, rows: np.ndarray) -> np.ndarray:
-        """[[A, cols], [rows, 0]] for extra unknowns and their equations."""
-        n, k = A.shape[0], cols.shape[1]
-        Ab = np.zeros((n + k, n + k))
-        Ab[:n, :n] = A
-        Ab[:n, n:] = cols
-        Ab[n:, :n] = rows
-        return Ab
-
     def _lu_factor(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """LU factors of A^T (LAPACK getrf, in place over A) with a
-        singularity check; solve with ``dgetrs(lu, piv, b, trans=1)``."""
-        # A is C-contiguous: A.T is Fortran-contiguous, so LAPACK factors A^T in
-        # place (no copy) and getrs solves with the transpose.
-        At = A.T
-        anorm = np.abs(A).sum(axis=0).max()  # ||A||_1 = ||A^T||_inf
-        lu, piv, info = scipy.linalg.lapack.dgetrf(At, overwrite_a=True)
+        """LU factors of the Fortran-ordered A (LAPACK getrf, in place over A)
+        with a singularity check (condition estimate gecon)."""
+        if not A.flags.f_contiguous:
+            A = np.asfortranarray(A)
+        anorm = scipy.linalg.lapack.dlange("1", A)
+        lu, piv, info = scipy.linalg.lapack.dgetrf(A, overwrite_a=True)
         rcond = 0.0
         if info == 0:
-            rcond, _ = scipy.linalg.lapack.dgecon(lu, anorm, norm="I")
+            rcond, _ = scipy.linalg.lapack.dgecon(lu, anorm, norm="1")
         if info != 0 or not rcond >= 1e-14:
             raise ConfigError(
                 f"{self.name}: the linear system is singular (reciprocal condition {rcond:.2e}): "
@@ -535,7 +518,7 @@ class ElasticBody:
 
     def _lu_solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
         lu, piv = self._lu_factor(A)
-        x, info = scipy.linalg.lapack.dgetrs(lu, piv, b, trans=1)
+        x, info = scipy.linalg.lapack.dgetrs(lu, piv, b)
         return x
 
 

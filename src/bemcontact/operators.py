@@ -297,6 +297,50 @@ def assemble_influence(
     return H, G
 
 
+def assemble_system(
+    disc: Discretization,
+    shear_modulus: float,
+    poisson_ratio: float,
+    known_u: np.ndarray,
+    W: np.ndarray | None = None,
+    bcols: np.ndarray | None = None,
+    quadrature: QuadratureOptions | None = None,
+    threads: int | None = None,
+    border: int = 0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The mixed system without storing H and G: returns (A, BW, BC).
+
+    A is ((3N + border), (3N + border)) Fortran-ordered (ready for LAPACK
+    ``getrf`` in place) with the columns of H at traction-given dofs and of -G
+    at displacement-given dofs (``known_u`` (3N,) bool) in its top-left
+    block, zeros in the ``border`` rows and columns (for extra unknowns).  B
+    (G at traction-given, -H at displacement-given dofs, so b = B values) is
+    applied to ``W`` (3N, s) into BW and its columns ``bcols`` are copied into
+    BC (3N, len(bcols)).  Row-parallel (OpenMP)."""
+    q = (quadrature or QuadratureOptions()).to_core()
+    nthreads = _core().max_threads() if threads is None else int(threads)
+    if nthreads < 1:
+        raise ConfigError(f"threads must be >= 1, got {threads!r}")
+    n = 3 * disc.n_points
+    ku = np.ascontiguousarray(np.asarray(known_u, dtype=bool), dtype=np.uint8)
+    if ku.shape != (n,):
+        raise ConfigError(f"known_u must have shape ({n},), got {ku.shape}")
+    w = np.zeros((n, 0)) if W is None else np.ascontiguousarray(np.asarray(W, dtype=float).reshape(n, -1))
+    cols = np.zeros(0, np.int64) if bcols is None else np.ascontiguousarray(bcols, dtype=np.int64)
+    if cols.size and (cols.min() < 0 or cols.max() >= n):
+        raise ConfigError(f"bcols must be dof indices in 0..{n - 1}")
+    if not isinstance(border, int) or border < 0:
+        raise ConfigError(f"border must be an integer >= 0, got {border!r}")
+    A = np.zeros((n + border, n + border), order="F")
+    BW = np.empty((n, w.shape[1]))
+    BC = np.empty((n, cols.size))
+    _core().assemble_system(
+        *disc.core_arrays(), disc.points, float(shear_modulus), float(poisson_ratio), q, ku, w,
+        cols, nthreads, A, BW, BC,
+    )
+    return A, BW, BC
+
+
 def element_influence(
     disc: Discretization,
     element: int,
@@ -328,5 +372,6 @@ __all__ = [
     "Discretization",
     "discretize",
     "assemble_influence",
+    "assemble_system",
     "element_influence",
 ]

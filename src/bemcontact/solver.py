@@ -25,6 +25,7 @@ import scipy.linalg
 
 from . import law
 from .body import BodySolution, ElasticBody
+from .operators import assemble_system
 from .errors import ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
@@ -252,16 +253,8 @@ def condense(
             f"{body.name}: the contact surface also has a boundary condition; remove it "
             "(the contact decides the tractions there)"
         )
-    H, G = body.assemble(threads)
-    t1 = time.perf_counter()
-    ku = np.flatnonzero(known_u)
-    kt = np.flatnonzero(~known_u)
-    Gc = G[:, dofs].copy()
-    Hc = body.control_columns(H, controls)
-    b0 = G[:, kt] @ values[kt] - H[:, ku] @ values[ku]  # (n, S)
-    A, _ = body._mixed_system(H, G, known_u, np.zeros(known_u.size))
-    del G, H
     # rigid modes the supports leave free
+    ku = np.flatnonzero(known_u)
     R = body.rigid_modes()
     Rn = R / np.linalg.norm(R, axis=0)
     if ku.size:
@@ -270,10 +263,21 @@ def condense(
         Z = np.eye(6)
     Rf = Rn @ Z
     nf = Rf.shape[1]
-    n = A.shape[0]
-    rhs = np.column_stack([b0, Gc, -Hc])
+    # A in place (bordered by the free modes); B values = b0 per state, B E =
+    # -Hc for the platens, the contact columns of B = G (traction-given dofs)
+    S = len(states)
+    m = body.material
+    A, BW, Gc = assemble_system(
+        d, m.shear_modulus, m.poisson_ratio, known_u,
+        np.column_stack([values, body.control_indicators(controls)]), dofs, body.quadrature,
+        threads, border=nf,
+    )
+    t1 = time.perf_counter()
+    n = 3 * d.n_points
+    rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
     if nf:
-        A = body._bordered(A, Rf)
+        A[:n, n:] = Rf
+        A[n:, :n] = (Rf * np.repeat(d.weights, 3)[:, None]).T
         rhs = np.vstack([rhs, np.zeros((nf, rhs.shape[1]))])
     sol = body._lu_solve(A, rhs)
     del A

@@ -186,3 +186,23 @@ def test_threads_give_identical_matrices():
     H1, G1 = bc.assemble_influence(d, 1.0, 0.3, threads=1)
     H2, G2 = bc.assemble_influence(d, 1.0, 0.3, threads=2)
     assert np.array_equal(H1, H2) and np.array_equal(G1, G2)
+
+
+def test_assemble_system_equals_the_mixed_columns_of_h_and_g():
+    from bemcontact.operators import assemble_system
+
+    d = bc.discretize(bc.box((0, 0, 0), (1, 2, 1), (3, 4, 2)))
+    H, G = bc.assemble_influence(d, 3.0, 0.25)
+    n = 3 * d.n_points
+    rng = np.random.default_rng(0)
+    ku = rng.random(n) < 0.4
+    W = rng.standard_normal((n, 3))
+    cols = np.array([0, 5, n - 1, 17])
+    A, BW, BC = assemble_system(d, 3.0, 0.25, ku, W, cols, border=2, threads=2)
+    assert A.shape == (n + 2, n + 2) and A.flags.f_contiguous
+    B = np.where(ku[None, :], -H, G)
+    # the same element integrals in the same order: equal to rounding
+    np.testing.assert_allclose(A[:n, :n], np.where(ku[None, :], -G, H), rtol=0, atol=1e-14 * np.abs(H).max())
+    assert not A[n:, :].any() and not A[:, n:].any()
+    np.testing.assert_allclose(BW, B @ W, rtol=0, atol=1e-12 * np.abs(B @ W).max())
+    np.testing.assert_array_equal(BC, B[:, cols])
