@@ -8,7 +8,15 @@ from __future__ import annotations
 
 from .body import BodySolution, Displacement, ElasticBody, Fixed, Force, Pressure, Traction
 from .frame import ContactFrame
-from .errors import BemcontactError, ConfigError, ConvergenceError, MaterialError, MeshError
+from .errors import (
+    AccuracyWarning,
+    BemcontactError,
+    ConfigError,
+    ConvergenceError,
+    MaterialError,
+    MeshError,
+)
+from .hmatrix import HMatrixOptions, LinearSolverOptions
 from .material import LinearElastic
 from .mesh import SurfaceMesh, box, read_mesh
 from .problem import Problem, load_problem
@@ -26,6 +34,7 @@ __version__ = "0.1.0"
 
 __all__ = [
     "__version__",
+    "AccuracyWarning",
     "BemcontactError",
     "ConfigError",
     "ConvergenceError",
@@ -57,6 +66,8 @@ __all__ = [
     "FrameResult",
     "InterfaceResult",
     "StepRecord",
+    "HMatrixOptions",
+    "LinearSolverOptions",
     "Problem",
     "load_problem",
 ]

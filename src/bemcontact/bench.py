@@ -103,6 +103,7 @@ def one_body(
         "solve_s": sol.timings["solve"],
         "total_s": total,
         "gmres_iterations": info.get("iterations"),
+        "exact_residual": info.get("exact_residual"),
         "newton_s": None,
         "newton_iterations": None,
         "peak_rss_mb": peak_rss_mb(),

@@ -10,6 +10,7 @@ pressure p (> 0 compressive) is t = -p n.
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Union
@@ -17,7 +18,7 @@ from typing import Any, Union
 import numpy as np
 import scipy.linalg
 
-from .errors import ConfigError
+from .errors import AccuracyWarning, ConfigError
 from .material import LinearElastic
 from .hmatrix import CompressedSystem, LinearSolverOptions, solve_mixed
 from .mesh import SurfaceMesh
@@ -470,8 +471,17 @@ class ElasticBody:
             where=f"{self.name}: ",
         )
         t2 = time.perf_counter()
+        exact = op.residual_check(x, values, cols, linear.check_nodes)
+        if exact > linear.accuracy:
+            warnings.warn(
+                f"{self.name}: the H-matrix solution's residual in the exact system is "
+                f"{exact:.2e} (sampled at {linear.check_nodes} nodes), above the requested "
+                f"accuracy {linear.accuracy:.1e}: lower HMatrixOptions.eps (now "
+                f"{linear.hmatrix.eps:.1e}) or use method='dense'",
+                AccuracyWarning, stacklevel=3,
+            )
         solver = {"method": "hmatrix", "iterations": info.iterations,
-                  "residuals": info.residuals, **op.stats()}
+                  "residuals": info.residuals, "exact_residual": exact, **op.stats()}
         return self._solution(x, known_u, values, controls,
                               {"assembly": t1 - t0, "solve": t2 - t1}, solver)
 

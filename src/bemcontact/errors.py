@@ -37,4 +37,17 @@ class ConvergenceError(BemcontactError, RuntimeError):
         self.result = result
 
 
-__all__ = ["BemcontactError", "MeshError", "MaterialError", "ConfigError", "ConvergenceError"]
+class AccuracyWarning(UserWarning):
+    """A result is less accurate than requested (e.g. an H-matrix tolerance
+    too loose for the requested solve accuracy); the message says by how much
+    and what to change."""
+
+
+__all__ = [
+    "BemcontactError",
+    "MeshError",
+    "MaterialError",
+    "ConfigError",
+    "ConvergenceError",
+    "AccuracyWarning",
+]

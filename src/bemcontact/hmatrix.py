@@ -238,6 +238,32 @@ class CompressedSystem:
                 raise ConfigError(f"entries: {name} must be dof indices in 0..{self.n - 1}")
         return self._h.entries(r, c)
 
+    def exact_rows(self, nodes) -> tuple[np.ndarray, np.ndarray]:
+        """Exact rows (3 per node) of A and of B, each (3 len(nodes), 3N), from
+        the element integrals."""
+        nodes = np.asarray(nodes, dtype=np.int64)
+        rows = (3 * nodes[:, None] + np.arange(3)).ravel()
+        H, G = self.entries(rows, np.arange(self.n))
+        ku = self.known_u[None, :]
+        return np.where(ku, -G, H), np.where(ku, -H, G)
+
+    def residual_check(self, x: np.ndarray, values: np.ndarray, border=None, nodes: int = 20,
+                       seed: int = 0) -> float:
+        """Relative residual of the exact system at ``nodes`` random nodes:
+        ||A_s x + C_s U - B_s values|| / ||B_s values|| (C_s the sampled rows of
+        the border columns, U = x[3N:])."""
+        if nodes <= 0:
+            return 0.0
+        rng = np.random.default_rng(seed)
+        pick = np.sort(rng.choice(self.n_points, min(nodes, self.n_points), replace=False))
+        As, Bs = self.exact_rows(pick)
+        b = Bs @ values
+        r = As @ x[: self.n] - b
+        if border is not None and border.shape[1]:
+            rows = (3 * pick[:, None] + np.arange(3)).ravel()
+            r = r + border[rows] @ x[self.n :]
+        return float(np.linalg.norm(r) / max(np.linalg.norm(b), 1e-300))
+
     def diagonal_blocks(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """The dense diagonal leaves of A: [(nodes (s,), A (3s, 3s))]."""
         return self._h.diagonal_blocks()
@@ -263,9 +289,16 @@ class LinearSolverOptions:
     hmatrix:
         Compression settings.
     tolerance:
-        GMRES relative residual target.  Keep it below ``hmatrix.eps``: the
-        solution cannot be more accurate than the operators, and a tolerance
-        far below eps only costs iterations.
+        GMRES relative residual target (of the compressed system).
+    accuracy:
+        Relative residual the solution must reach in the *exact* (uncompressed)
+        system.  After the solve it is measured on ``check_nodes`` random nodes'
+        exact rows (element integrals); if it is larger, an
+        :class:`~bemcontact.errors.AccuracyWarning` says so and suggests a
+        smaller ``hmatrix.eps``: a too loose eps gives a warning, never a
+        silently wrong answer.
+    check_nodes:
+        Nodes sampled for that check (0: no check).
     max_iterations, restart:
         GMRES limits.
     """
@@ -274,6 +307,8 @@ class LinearSolverOptions:
     dense_max_nodes: int = 6000
     hmatrix: HMatrixOptions = HMatrixOptions()
     tolerance: float = 1e-10
+    accuracy: float = 1e-6
+    check_nodes: int = 20
     max_iterations: int = 1000
     restart: int = 200
 
@@ -290,6 +325,16 @@ class LinearSolverOptions:
         if not (isinstance(self.tolerance, (int, float)) and 0 < self.tolerance < 1):
             raise ConfigError(
                 f"LinearSolverOptions.tolerance must be in (0, 1), got {self.tolerance!r}"
+            )
+        if not (isinstance(self.accuracy, (int, float)) and 0 < self.accuracy < 1):
+            raise ConfigError(
+                f"LinearSolverOptions.accuracy must be in (0, 1), got {self.accuracy!r}"
+            )
+        if isinstance(self.check_nodes, bool) or not isinstance(self.check_nodes, int) or (
+            self.check_nodes < 0
+        ):
+            raise ConfigError(
+                f"LinearSolverOptions.check_nodes must be an integer >= 0, got {self.check_nodes!r}"
             )
         for name in ("dense_max_nodes", "max_iterations", "restart"):
             v = getattr(self, name)

@@ -177,6 +177,20 @@ def test_compressed_solve_of_a_free_body_matches_dense():
     assert np.abs(a - b).max() <= 1e-6 * np.abs(a).max()
 
 
+def test_too_loose_eps_warns_instead_of_a_silent_wrong_answer():
+    from bemcontact.errors import AccuracyWarning
+
+    body, A, sigma = _linear_field_body(8)
+    opts = dict(method="hmatrix", accuracy=1e-6)
+    # eps 1e-3: exact residual 1.3e-4 sampled, traction error 7e-3 -> warning
+    with pytest.warns(AccuracyWarning, match=r"lower HMatrixOptions.eps \(now 1.0e-03\)"):
+        sol = body.solve(linear=LinearSolverOptions(hmatrix=HMatrixOptions(eps=1e-3, leaf_size=12), **opts))
+    assert sol.solver["exact_residual"] > 1e-6
+    # eps 1e-7: residual 7e-9, no warning (warnings are errors in this suite)
+    sol = body.solve(linear=LinearSolverOptions(hmatrix=HMatrixOptions(eps=1e-7, leaf_size=12), **opts))
+    assert sol.solver["exact_residual"] < 1e-7
+
+
 def test_options_are_checked():
     with pytest.raises(ConfigError, match="eps"):
         HMatrixOptions(eps=0)
@@ -184,6 +198,8 @@ def test_options_are_checked():
         HMatrixOptions(leaf_size=0)
     with pytest.raises(ConfigError, match="method"):
         LinearSolverOptions(method="fast")
+    with pytest.raises(ConfigError, match="accuracy"):
+        LinearSolverOptions(accuracy=0.0)
     with pytest.raises(ConfigError, match="matvec"):
         CompressedSystem(O.discretize(M.box(divisions=2)), MU, NU).matvec(np.zeros(5))
     with pytest.raises(ConfigError, match="known_u"):
