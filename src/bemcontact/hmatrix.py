@@ -1,7 +1,8 @@
-"""Compressed BEM operators: H and G of a body as a hierarchical matrix.
+"""Compressed BEM operators: a body's mixed system matrix as a hierarchical matrix.
 
 The dense influence matrices of :func:`~bemcontact.operators.assemble_influence`
-store (3N)² numbers each.  :class:`CompressedInfluence` stores them in
+store (3N)² numbers each.  :class:`CompressedSystem` stores the mixed system
+matrix A (H on traction-given columns, -G on displacement-given ones) in
 hierarchical (H-matrix) form, built by the compiled core straight from the
 element integrals:
 
@@ -17,13 +18,15 @@ element integrals:
   and checked on random unused node rows and columns before it stops (see the
   compiled code for why scalar pivoting fails for coplanar elasticity blocks);
   each block meets ``||M - U V^T||_F <= eps ||M||_F`` up to the estimate;
+* only A is kept: the companion B (b = B values) is applied during the build to
+  the vectors that need it; low-rank blocks of A are recompressed (QR + SVD) to
+  A's own rank;
 * the diagonal 3x3 blocks of H (free term and principal value) from rigid-body
   translation, summed over the compressed rows.
 
-The mixed system of a body, A x = b with A = H on traction-given columns and
--G on displacement-given ones, is then solved by GMRES preconditioned with the
-LU factors of the dense diagonal leaf blocks of A (block Jacobi); see
-:func:`solve_mixed`.
+A x = b is then solved by GMRES preconditioned with the LU factors of the dense
+diagonal leaf blocks of A (block Jacobi); see :func:`solve_mixed`.  Details and
+measurements: docs/theory.md ("Compressed operators"), docs/benchmarks.md.
 """
 
 from __future__ import annotations
