@@ -1,6 +1,7 @@
 """The ``bemcontact`` command.  No numerics here: only the public API.
 
     bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
+    bemcontact check PROBLEM.toml [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--json FILE]
     bemcontact --version
@@ -20,6 +21,8 @@ import dataclasses
 import pathlib
 import sys
 from collections.abc import Sequence
+
+import numpy as np
 
 from . import __version__
 from .errors import BemcontactError, ConvergenceError
@@ -60,6 +63,13 @@ def _parser() -> argparse.ArgumentParser:
                      help="assembly threads (overrides solver.threads; default all cores)")
     run.add_argument("--quiet", action="store_true", help="print nothing on success")
     run.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    check = sub.add_parser(
+        "check", help="validate a problem file and print what would be solved",
+        description="Read and validate a problem file (no solve): bodies, node counts, regions "
+        "and their conditions, the contact pair and frame, load steps, estimated memory.",
+    )
+    check.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
+    check.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     bench = sub.add_parser(
         "bench", help="time a benchmark case (speed and accuracy)",
         description="Benchmark cases (docs/benchmarks.md); prints one JSON record and writes "
@@ -100,11 +110,73 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_usage(sys.stderr)
-        print("bemcontact: error: a command is required (run, bench)", file=sys.stderr)
+        print("bemcontact: error: a command is required (run, check, bench)", file=sys.stderr)
         return EXIT_INPUT
+    if args.command == "check":
+        return _check(args)
     if args.command == "bench":
         return _bench(args)
     return _run(args)
+
+
+def _check(args: argparse.Namespace) -> int:
+    try:
+        problem = load_problem(args.problem)
+        text = _describe(problem)
+    except BemcontactError as exc:
+        if args.debug:
+            raise
+        _error(str(exc))
+        return EXIT_INPUT
+    print(text)
+    return EXIT_OK
+
+
+def _mb(nbytes: float) -> str:
+    return f"{nbytes / 1e6:,.0f} MB" if nbytes >= 1e6 else f"{nbytes / 1e3:,.0f} kB"
+
+
+def _describe(problem) -> str:
+    """What ``run`` would solve: per body its mesh, nodes, regions and
+    conditions; the contact pair and frame; steps; memory of the dense path."""
+    cp = problem.contact_problem()
+    frame = cp.frame
+    lines = [f"{problem.path}: valid" + (f" ({problem.title})" if problem.title else "")]
+    peak = 0.0
+    for a, body in enumerate(problem.bodies):
+        d = body.discretization
+        mesh = body.mesh
+        n = d.n_points
+        nc = frame.nodes(a).size
+        mat = body.material
+        lines.append(
+            f"  body {body.name}: {mesh.n_elements} {mesh.element_type} elements, {n} functional "
+            f"nodes ({3 * n} unknowns), E = {mat.youngs_modulus:g}, nu = {mat.poisson_ratio:g}"
+        )
+        counts = np.bincount(d.region, minlength=len(mesh.region_names))
+        for r, name in enumerate(mesh.region_names):
+            conds = body.boundary_conditions.get(name, ())
+            what = "; ".join(repr(c) for c in conds) if conds else "traction free"
+            if name == (problem.pair.surface1 if a == 0 else problem.pair.surface2):
+                what = f"contact surface ({nc} candidate nodes)"
+            lines.append(f"    region {name}: {counts[r]} nodes, {what}")
+        # dense path: the system matrix, then the solution block for the
+        # contact columns (3 n_c) and their right-hand sides
+        need = 8.0 * ((3 * n + 6) ** 2 + 2 * 3 * n * (3 * nc + 4))
+        peak = max(peak, need)
+    pair = problem.pair
+    lines.append(
+        f"  contact: {problem.bodies[0].name}.{pair.surface1} - {problem.bodies[1].name}."
+        f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame on "
+        f"{pair.frame_on}: {int(np.count_nonzero(frame.active))} active frame nodes"
+    )
+    steps = problem.steps
+    lines.append(
+        f"  load: {len(steps)} step(s), {sum(s.increments for s in steps)} increment(s)"
+        if steps else f"  load: one step in {problem.options.load_steps} increment(s)"
+    )
+    lines.append(f"  estimated peak memory (dense path, one body at a time): {_mb(peak)}")
+    return "\n".join(lines)
 
 
 def _bench(args: argparse.Namespace) -> int:

@@ -211,3 +211,21 @@ def test_bench_two_cubes_record(tmp_path):
     assert rec["newton_iterations"] >= 1 and 0 < rec["newton_fraction"] < 1
     # the paper's bounds for the dissimilar cubes (docs/validation.md): 800-1077 N
     assert 800 < rec["normal_force"] < 1077
+
+
+def test_check_prints_what_would_be_solved(capsys, tmp_path):
+    import pathlib
+
+    ex = pathlib.Path(__file__).resolve().parents[2] / "examples" / "two_cubes_dissimilar.toml"
+    assert main(["check", str(ex)]) == 0
+    out = capsys.readouterr().out
+    # lower cube 6x6x6 quad4: 6 n^2 + 36 n - 18 = 414 nodes; upper 5x5x5: 312
+    assert "body lower: 216 quad4 elements, 414 functional nodes (1242 unknowns)" in out
+    assert "body upper: 150 quad4 elements, 312 functional nodes" in out
+    assert "region zmax: 69 nodes, contact surface (69 candidate nodes)" in out
+    assert "36 active frame nodes" in out and "estimated peak memory" in out
+    bad = tmp_path / "bad.toml"
+    bad.write_text(ex.read_text().replace("poisson_ratio = 0.3", "poisson_ratio = 0.5", 1))
+    assert main(["check", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("bemcontact: error:") and "poisson_ratio" in err and len(err.splitlines()) == 1
