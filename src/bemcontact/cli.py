@@ -2,6 +2,7 @@
 
     bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
     bemcontact check PROBLEM.toml [--debug]
+    bemcontact mesh-info MESH [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--json FILE]
     bemcontact --version
@@ -70,6 +71,14 @@ def _parser() -> argparse.ArgumentParser:
     )
     check.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
     check.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    info = sub.add_parser(
+        "mesh-info", help="regions, element type, quality and orientation of a mesh file",
+        description="Read a mesh file (any format meshio reads; gmsh physical groups become "
+        "regions) and report its regions, element type, element quality, shells and whether it "
+        "bounds a solid with outward normals (exit 2 if not).",
+    )
+    info.add_argument("mesh", metavar="MESH", type=pathlib.Path)
+    info.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     bench = sub.add_parser(
         "bench", help="time a benchmark case (speed and accuracy)",
         description="Benchmark cases (docs/benchmarks.md); prints one JSON record and writes "
@@ -110,10 +119,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_usage(sys.stderr)
-        print("bemcontact: error: a command is required (run, check, bench)", file=sys.stderr)
+        print("bemcontact: error: a command is required (run, check, mesh-info, bench)",
+              file=sys.stderr)
         return EXIT_INPUT
     if args.command == "check":
         return _check(args)
+    if args.command == "mesh-info":
+        return _mesh_info(args)
     if args.command == "bench":
         return _bench(args)
     return _run(args)
@@ -129,6 +141,49 @@ def _check(args: argparse.Namespace) -> int:
         _error(str(exc))
         return EXIT_INPUT
     print(text)
+    return EXIT_OK
+
+
+def _mesh_info(args: argparse.Namespace) -> int:
+    from .errors import MeshError
+    from .mesh import read_mesh
+
+    try:
+        mesh = read_mesh(args.mesh)
+        q = mesh.quality()
+        lines = [
+            f"{args.mesh}: {mesh.n_elements} {mesh.element_type} elements, {mesh.n_nodes} nodes, "
+            f"area {q['area'].sum():.6g}"
+        ]
+        for name, els in mesh.regions.items():
+            lines.append(f"  region {name}: {els.size} elements, area {q['area'][els].sum():.6g}")
+        lines.append(
+            f"  edge length: min {q['min_edge'].min():.4g}, median "
+            f"{np.median(q['max_edge']):.4g}, max {q['max_edge'].max():.4g}; aspect ratio "
+            f"(longest/shortest edge): median {np.median(q['aspect']):.3g}, worst "
+            f"{q['aspect'].max():.3g} (element {int(np.argmax(q['aspect']))})"
+        )
+        shells = mesh.components()
+        for i, c in enumerate(shells):
+            lines.append(
+                f"  shell {i}: {c.size} elements, signed volume {mesh.signed_volume(c):.6g}"
+            )
+        problem = None
+        try:
+            mesh.check()
+        except MeshError as exc:
+            problem = " ".join(str(exc).split())
+    except BemcontactError as exc:
+        if args.debug:
+            raise
+        _error(str(exc))
+        return EXIT_INPUT
+    if problem is None:
+        lines.append("  closed, consistently oriented, normals outward: usable as a body")
+    print("\n".join(lines))
+    if problem is not None:
+        _error(problem)
+        return EXIT_INPUT
     return EXIT_OK
 
 

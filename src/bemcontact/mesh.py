@@ -274,6 +274,19 @@ class SurfaceMesh:
         owner = np.repeat(np.arange(self.n_elements), nc)
         return edges, owner
 
+    def quality(self) -> dict[str, np.ndarray]:
+        """Per element: ``min_edge`` and ``max_edge`` (corner-to-corner edge
+        lengths), ``aspect`` (their ratio, 1 for a square or an equilateral
+        triangle's edges) and ``area``."""
+        edges, owner = self._corner_edges()
+        length = np.linalg.norm(self.nodes[edges[:, 1]] - self.nodes[edges[:, 0]], axis=1)
+        L = length.reshape(self.n_elements, -1)
+        lo, hi = L.min(axis=1), L.max(axis=1)
+        W = self.surface_quadrature(4).weights
+        with np.errstate(divide="ignore"):
+            aspect = np.where(lo > 0, hi / np.where(lo > 0, lo, 1.0), np.inf)
+        return {"min_edge": lo, "max_edge": hi, "aspect": aspect, "area": W.sum(axis=1)}
+
     def components(self) -> list[np.ndarray]:
         """Connected components (element index arrays) through shared edges."""
         from scipy.sparse import coo_matrix

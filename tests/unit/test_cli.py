@@ -249,3 +249,23 @@ def test_threads_1_and_2_give_identical_results(tmp_path, capsys):
         for col in a:
             scale = max(np.abs(a[col]).max(), 1e-300)
             assert np.abs(a[col] - b[col]).max() <= 1e-12 * scale, (name, col)
+
+
+def test_mesh_info_reports_regions_quality_and_orientation(tmp_path, capsys):
+    good = tmp_path / "box.vtu"
+    bc.box((0, 0, 0), (2, 1, 1), (4, 1, 2)).to_meshio().write(good)
+    assert main(["mesh-info", str(good)]) == 0
+    out = capsys.readouterr().out
+    # 2x1x1 box, 4x1x2 elements: 2*(4*1 + 4*2 + 1*2) = 28 quads, area 2*(2 + 2 + 1) = 10
+    assert f"{good}: 28 quad4 elements" in out and "area 10" in out
+    # edges 0.5 (x), 1 (y), 0.5 (z): shortest 0.5, worst aspect 2
+    assert "min 0.5," in out and "worst 2 " in out
+    assert "shell 0: 28 elements, signed volume 2" in out and "usable as a body" in out
+    bad = tmp_path / "inverted.vtu"
+    bc.box(divisions=2).reversed().to_meshio().write(bad)
+    assert main(["mesh-info", str(bad)]) == 2
+    captured = capsys.readouterr()
+    assert "signed volume -1" in captured.out
+    assert captured.err.startswith("bemcontact: error:") and "inverted orientation" in captured.err
+    assert main(["mesh-info", str(tmp_path / "missing.msh")]) == 2
+    assert "no such file" in capsys.readouterr().err
