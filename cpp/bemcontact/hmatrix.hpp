@@ -20,7 +20,7 @@ namespace bemcontact {
 
 struct HParams {
   double eps = 1e-6;     // relative accuracy of each low-rank block (Frobenius)
-  double eta = 2.0;      // admissibility: min(diam) <= eta * dist
+  double eta = 3.0;      // admissibility: min(diam) <= eta * dist
   int leaf_size = 48;    // nodes per leaf cluster (at most)
   int max_rank = 0;      // 0: no cap
   int checks = 3;        // random residual rows/columns tested after ACA stops

@@ -75,7 +75,7 @@ class HMatrixOptions:
     """
 
     eps: float = 1e-6
-    eta: float = 2.0
+    eta: float = 3.0
     leaf_size: int = 48
     max_rank: int = 0
     checks: int = 3
