@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "bind_common.hpp"
 #include "element.hpp"
 #include "operators.hpp"
 
@@ -15,31 +16,13 @@
 
 namespace nb = nanobind;
 using namespace bemcontact;
+using namespace bemcontact::bind;
 
 void bind_hmatrix(nb::module_& mod);  // hmatrix_bindings.cpp
 
-using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
-using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using CInt64_1 = nb::ndarray<const int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using CInt32_1 = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using Double2 = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using NpArray = nb::ndarray<nb::numpy, double>;
 
 namespace {
-
-MeshView make_view(CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
-                   CDouble3 fxi) {
-  MeshView m;
-  m.nodes = nodes.data();
-  m.n_nodes = static_cast<int64_t>(nodes.shape(0));
-  m.etype = etype.data();
-  m.conn = conn.data();
-  m.fconn = fconn.data();
-  m.fxi = fxi.data();
-  m.n_elements = static_cast<int64_t>(etype.shape(0));
-  return m;
-}
 
 NpArray owned(double* data, std::initializer_list<size_t> shape) {
   nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
@@ -94,7 +77,7 @@ NB_MODULE(_core, mod) {
       "assemble_system",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
          CDouble2 points, double shear_modulus, double nu, const QuadratureParams& q,
-         nb::ndarray<const uint8_t, nb::ndim<1>, nb::c_contig, nb::device::cpu> known_u,
+         CUInt8_1 known_u,
          CDouble2 W, CInt64_1 bcols, int threads,
          nb::ndarray<double, nb::ndim<2>, nb::f_contig, nb::device::cpu> A, Double2 BW,
          Double2 BC) {

@@ -5,20 +5,15 @@
 
 #include <cstring>
 
+#include "bind_common.hpp"
 #include "hmatrix.hpp"
 
 namespace nb = nanobind;
 using namespace bemcontact;
+using namespace bemcontact::bind;
 
 namespace {
 
-using CDouble2 = nb::ndarray<const double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using CDouble3 = nb::ndarray<const double, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
-using CInt64_2 = nb::ndarray<const int64_t, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
-using CInt64_1 = nb::ndarray<const int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using CUInt8_1 = nb::ndarray<const uint8_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using CInt32_1 = nb::ndarray<const int32_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
-using Double2 = nb::ndarray<double, nb::ndim<2>, nb::c_contig, nb::device::cpu>;
 using NpArray = nb::ndarray<nb::numpy, double>;
 using NpInt = nb::ndarray<nb::numpy, int64_t>;
 
@@ -69,14 +64,7 @@ void bind_hmatrix(nb::module_& mod) {
              CDouble3 fxi, CDouble2 points, double shear_modulus, double nu,
              const QuadratureParams& q, const HParams& hp, CUInt8_1 known_u, CDouble2 W,
              const Lapack& lapack, int threads) {
-            MeshView m;
-            m.nodes = nodes.data();
-            m.n_nodes = static_cast<int64_t>(nodes.shape(0));
-            m.etype = etype.data();
-            m.conn = conn.data();
-            m.fconn = fconn.data();
-            m.fxi = fxi.data();
-            m.n_elements = static_cast<int64_t>(etype.shape(0));
+            const MeshView m = make_view(nodes, etype, conn, fconn, fxi);
             const double* pts = points.data();
             const int64_t n = static_cast<int64_t>(points.shape(0));
             if (known_u.shape(0) != static_cast<size_t>(3 * n) ||

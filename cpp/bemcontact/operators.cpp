@@ -332,48 +332,49 @@ void element_influence(const Element& e, const double* x, int local, const Kelvi
   integrate_adaptive(e, root, x, 0, K, q, want_h, want_g, He, Ge, rule);
 }
 
+// The three rows of H and G (each 3 x ncol, row-major) of collocation point
+// i at x, over all elements, with the diagonal block of H (free term +
+// principal value) from rigid-body translation.
+static void influence_rows(const std::vector<Element>& els, int64_t i, const double* x,
+                           const Kelvin& K, const QuadratureParams& q, int64_t ncol,
+                           double* Hrow, double* Grow) {
+  double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
+  std::fill(Hrow, Hrow + 3 * ncol, 0.0);
+  std::fill(Grow, Grow + 3 * ncol, 0.0);
+  for (const Element& e : els) {
+    int local = -1;
+    for (int k = 0; k < e.n; ++k)
+      if (e.f[k] == i) local = k;
+    const int ld = 3 * e.n;
+    std::fill(He, He + 3 * ld, 0.0);
+    std::fill(Ge, Ge + 3 * ld, 0.0);
+    element_influence(e, x, local, K, q, true, true, He, Ge);
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < e.n; ++k) {
+        const int64_t col = 3 * e.f[k];
+        for (int j = 0; j < 3; ++j) {
+          Hrow[r * ncol + col + j] += He[r * ld + 3 * k + j];
+          Grow[r * ncol + col + j] += Ge[r * ld + 3 * k + j];
+        }
+      }
+  }
+  for (int r = 0; r < 3; ++r)
+    for (int j = 0; j < 3; ++j) {
+      double acc = 0.0;
+      for (int64_t c = j; c < ncol; c += 3) acc += Hrow[r * ncol + c];
+      Hrow[r * ncol + 3 * i + j] = -acc;
+    }
+}
+
 void assemble_influence(const MeshView& m, const double* points, int64_t n_points,
                         double shear_modulus, double nu, const QuadratureParams& q,
                         int threads, double* H, double* G) {
   const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
   const Kelvin K(shear_modulus, nu);
   const int64_t ncol = 3 * n_points;
-#pragma omp parallel num_threads(threads)
-  {
-    double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
-#pragma omp for schedule(dynamic, 4)
-    for (int64_t i = 0; i < n_points; ++i) {
-      const double* x = points + 3 * i;
-      double* Hrow = H + 3 * i * ncol;
-      double* Grow = G + 3 * i * ncol;
-      std::fill(Hrow, Hrow + 3 * ncol, 0.0);
-      std::fill(Grow, Grow + 3 * ncol, 0.0);
-      for (const Element& e : els) {
-        int local = -1;
-        for (int k = 0; k < e.n; ++k)
-          if (e.f[k] == i) local = k;
-        const int ld = 3 * e.n;
-        std::fill(He, He + 3 * ld, 0.0);
-        std::fill(Ge, Ge + 3 * ld, 0.0);
-        element_influence(e, x, local, K, q, true, true, He, Ge);
-        for (int r = 0; r < 3; ++r)
-          for (int k = 0; k < e.n; ++k) {
-            const int64_t col = 3 * e.f[k];
-            for (int j = 0; j < 3; ++j) {
-              Hrow[r * ncol + col + j] += He[r * ld + 3 * k + j];
-              Grow[r * ncol + col + j] += Ge[r * ld + 3 * k + j];
-            }
-          }
-      }
-      // rigid-body translation: free term + principal value of the diagonal block
-      for (int r = 0; r < 3; ++r)
-        for (int j = 0; j < 3; ++j) {
-          double s = 0.0;
-          for (int64_t c = j; c < ncol; c += 3) s += Hrow[r * ncol + c];
-          Hrow[r * ncol + 3 * i + j] = -s;
-        }
-    }
-  }
+#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
+  for (int64_t i = 0; i < n_points; ++i)
+    influence_rows(els, i, points + 3 * i, K, q, ncol, H + 3 * i * ncol, G + 3 * i * ncol);
 }
 
 void assemble_system(const MeshView& m, const double* points, int64_t n_points,
@@ -385,39 +386,13 @@ void assemble_system(const MeshView& m, const double* points, int64_t n_points,
   const int64_t ncol = 3 * n_points;
 #pragma omp parallel num_threads(threads)
   {
-    double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
     std::vector<double> Hrow(3 * ncol), Grow(3 * ncol);
 #pragma omp for schedule(dynamic, 4)
     for (int64_t i = 0; i < n_points; ++i) {
-      const double* x = points + 3 * i;
-      std::fill(Hrow.begin(), Hrow.end(), 0.0);
-      std::fill(Grow.begin(), Grow.end(), 0.0);
-      for (const Element& e : els) {
-        int local = -1;
-        for (int k = 0; k < e.n; ++k)
-          if (e.f[k] == i) local = k;
-        const int ld = 3 * e.n;
-        std::fill(He, He + 3 * ld, 0.0);
-        std::fill(Ge, Ge + 3 * ld, 0.0);
-        element_influence(e, x, local, K, q, true, true, He, Ge);
-        for (int r = 0; r < 3; ++r)
-          for (int k = 0; k < e.n; ++k) {
-            const int64_t col = 3 * e.f[k];
-            for (int j = 0; j < 3; ++j) {
-              Hrow[r * ncol + col + j] += He[r * ld + 3 * k + j];
-              Grow[r * ncol + col + j] += Ge[r * ld + 3 * k + j];
-            }
-          }
-      }
+      influence_rows(els, i, points + 3 * i, K, q, ncol, Hrow.data(), Grow.data());
       for (int r = 0; r < 3; ++r) {
-        double* h = Hrow.data() + r * ncol;
+        const double* h = Hrow.data() + r * ncol;
         const double* g = Grow.data() + r * ncol;
-        // rigid-body translation: free term + principal value of the diagonal block
-        for (int j = 0; j < 3; ++j) {
-          double acc = 0.0;
-          for (int64_t c = j; c < ncol; c += 3) acc += h[c];
-          h[3 * i + j] = -acc;
-        }
         const int64_t row = 3 * i + r;
         // A column-major (leading dimension lda): A[row, c]
         for (int64_t c = 0; c < ncol; ++c) A[row + lda * c] = known_u[c] ? -g[c] : h[c];
