@@ -6,9 +6,9 @@ VENV := .venv
 PY := $(VENV)/bin/python
 CPP_SRC := $(wildcard cpp/bemcontact/*.cpp cpp/bemcontact/*.hpp)
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
-RUN_DEPS := numpy scipy meshio threadpoolctl gmsh matplotlib pytest
+RUN_DEPS := numpy scipy meshio threadpoolctl gmsh matplotlib pytest hypothesis mkdocs
 
-.PHONY: all install demo test test-fast bench clean
+.PHONY: all install demo test test-fast bench docs clean
 
 all: install
 
@@ -40,5 +40,11 @@ bench: install
 	$(PY) benchmarks/bem_one_body_N500_5000.py
 	$(PY) benchmarks/scaling.py
 
+# The documentation site (MkDocs, built-in theme, nothing fetched at build or view
+# time) goes into site/; open site/index.html.  Needs only mkdocs, not the C++ build.
+docs: $(VENV)/.deps
+	$(PY) -c "import mkdocs" 2>/dev/null || $(PY) -m pip install --quiet mkdocs
+	$(VENV)/bin/mkdocs build --strict
+
 clean:
-	rm -rf build $(VENV)
+	rm -rf build site $(VENV)

@@ -8,6 +8,7 @@ import pathlib
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
@@ -144,3 +145,40 @@ def test_cattaneo_mindlin_example(tmp_path):
     assert r["newton_iterations"] <= 15 * 20
     for name in ("profiles.png", "fretting_loop.png"):
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+
+
+# ---------------------------------------------------------------- Hertz problem file
+
+
+def test_hertz_sphere_on_block_problem_file(tmp_path):
+    """examples/hertz_sphere_on_block.toml (gmsh-generated cap and graded
+    block from the problem file) is docs/validation.md's Hertz case at
+    h = 0.1 mm, so it must reproduce that table's row: force 2626.78 N
+    (1e-3: quadrature and BLAS round-off across machines, as for the two
+    cubes), peak pressure within 3 % of Hertz at the computed force (the
+    issue's tolerance; +1.4 % in the table) and the fitted contact radius
+    +11.5 % (±1 %: at this coarse h the least-squares fit is poor; it falls
+    to 0.64 % at h = 0.05, which the validation test asserts)."""
+    from bemcontact.io import read_csv
+    from bemcontact.reference.contact import effective_modulus, hertz
+
+    out = tmp_path / "hertz"
+    subprocess.run(
+        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / "hertz_sphere_on_block.toml"),
+         "--out", str(out), "--quiet"],
+        check=True, capture_output=True, text=True,
+    )
+    s = json.loads((out / "summary.json").read_text())
+    assert s["converged"] is True
+    P = s["normal_force"]
+    assert P == pytest.approx(2626.78, rel=1e-3)
+    h = hertz(P, 10.0, effective_modulus(210e3, 0.3, 210e3, 0.3))
+    f = read_csv(out / "frame.csv")
+    assert f["pressure"].max() == pytest.approx(h.peak_pressure, rel=0.03)
+    r = np.hypot(f["x"], f["y"])
+    inner = r < 0.9 * h.contact_radius
+    c1, c0 = np.polyfit(r[inner] ** 2, f["pressure"][inner] ** 2, 1)
+    assert np.sqrt(-c0 / c1) / h.contact_radius - 1 == pytest.approx(0.115, abs=0.01)
+    # the frame's normal is z (frame on the flat block): the resultant of the
+    # frame pressures is the normal force (flat interface, see docs)
+    assert np.sum(f["weight"] * f["pressure"]) == pytest.approx(P, rel=1e-9)

@@ -277,7 +277,7 @@ def _run(args: argparse.Namespace) -> int:
         if args.threads is not None:
             options = dataclasses.replace(options, threads=args.threads)
         result = problem.contact_problem().solve(options, steps=problem.steps or None)
-        files = write_results(result, out, problem.echo)
+        files = write_results(result, out, problem.echo, problem.output)
     except ConvergenceError as exc:
         if args.debug:
             raise

@@ -1,13 +1,18 @@
 """Writing contact results to disk: JSON summary, VTU (ParaView) and CSV.
 
 Files written by :func:`write_results` into ``out_dir`` (``<body>`` is a body
-name; columns and units in ``docs/problem-file.md``):
+name; columns and units in ``docs/problem-file.md``; which of them are written
+is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
 
 * ``summary.json``: :meth:`ContactResult.summary` plus ``version``, ``names``
   (body 1, body 2) and ``problem`` (the problem file's echo, if given).
 * ``<body>.vtu``: the body's whole surface.
 * ``<body>_interface.vtu``, ``<body>_interface.csv``: its contact surface.
 * ``frame.vtu``, ``frame.csv``: the contact frame nodes.
+* ``<name>.pvd`` for each of the VTU files above, with ``steps/<name>_<k>.vtu``
+  (k = 001, 002, ...): the state at the end of every load step, a time series
+  for ParaView (time = step number).
+* ``frame_tractions.png``: contact pressure and tangential traction on the frame.
 
 VTU points are the *functional nodes* of the discretization (the collocation
 points, where the solution lives), not the mesh nodes: away from edges they
@@ -38,6 +43,7 @@ import re
 import secrets
 import shutil
 from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -62,6 +68,34 @@ _SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 
 
 # --------------------------------------------------------------------------- public
+
+
+@dataclass(frozen=True)
+class OutputOptions:
+    """Which files :func:`write_results` writes (``summary.json`` always).
+
+    Attributes
+    ----------
+    vtu: ParaView files of the bodies' surfaces, interfaces and the frame.
+    csv: CSV tables of the interface and frame nodes.
+    figures: ``frame_tractions.png`` (needs matplotlib).
+    steps: ``"all"``: VTU files for every load step in ``steps/`` and PVD
+        collections; ``"last"``: the final state only.
+    """
+
+    vtu: bool = True
+    csv: bool = True
+    figures: bool = True
+    steps: str = "all"
+
+    def __post_init__(self) -> None:
+        for name in ("vtu", "csv", "figures"):
+            if not isinstance(getattr(self, name), bool):
+                raise ConfigError(
+                    f"OutputOptions.{name} must be True or False, got {getattr(self, name)!r}"
+                )
+        if self.steps not in ("all", "last"):
+            raise ConfigError(f"OutputOptions.steps must be 'all' or 'last', got {self.steps!r}")
 
 
 def summary(
@@ -94,41 +128,100 @@ def write_results(
     result: ContactResult,
     out_dir: str | os.PathLike,
     problem_echo: Mapping[str, Any] | None = None,
+    options: OutputOptions | None = None,
 ) -> list[pathlib.Path]:
-    """Write every result file into ``out_dir`` (all or nothing, see the
-    module docstring) and return their paths.
+    """Write the result files into ``out_dir`` (all or nothing, see the
+    module docstring) and return their paths (the per-step VTU files in
+    ``steps/`` are not listed: the PVD files name them).
 
-    Raises :class:`ConfigError` if a body name cannot name a file, ``OSError``
-    if the files cannot be written.
+    Raises :class:`ConfigError` if a body name cannot name a file or
+    ``options`` asks for figures without matplotlib, ``OSError`` if the files
+    cannot be written.
     """
     if not isinstance(result, ContactResult):
         raise ConfigError(f"write_results: expected a ContactResult, got {type(result).__name__}")
+    opt = OutputOptions() if options is None else options
+    if not isinstance(opt, OutputOptions):
+        raise ConfigError(f"write_results: options must be OutputOptions, got {opt!r}")
+    if opt.figures:
+        require_matplotlib("write_results: figures")
     names = list(result.names)
-    files = ["summary.json"]
-    files += [f"{n}.vtu" for n in names]
-    files += [f"{n}_interface.{ext}" for n in names for ext in ("vtu", "csv")]
-    files += ["frame.vtu", "frame.csv"]
     for n in names:
         if not isinstance(n, str) or not _SAFE_NAME.match(n):
             raise ConfigError(
                 f"write_results: body name {n!r} cannot name a file; use letters, digits, "
                 "'_', '-' and '.'"
             )
+    series = [*names, *(f"{n}_interface" for n in names), "frame"]
+    files = ["summary.json"]
+    if opt.vtu:
+        files += [f"{n}.vtu" for n in series]
+        if opt.steps == "all":
+            files += [f"{n}.pvd" for n in series]
+    if opt.csv:
+        files += [f"{n}_interface.csv" for n in names] + ["frame.csv"]
+    if opt.figures:
+        files.append("frame_tractions.png")
     if len(set(files)) != len(files):
         raise ConfigError(
             f"write_results: the body names {names} give clashing file names; rename the bodies"
         )
+    history = list(result.history) or [result]
     with _staging(out_dir) as tmp:
         _write_json(tmp / "summary.json", summary(result, problem_echo))
-        for sol, n in zip(result.bodies, names):
-            _write_body_vtu(tmp / f"{n}.vtu", sol)
-        for sol, iface in zip(result.bodies, result.interfaces):
-            _write_interface_vtu(tmp / f"{iface.body}_interface.vtu", sol, iface)
-            _write_interface_csv(tmp / f"{iface.body}_interface.csv", iface)
-        _write_frame_vtu(tmp / "frame.vtu", result)
-        _write_frame_csv(tmp / "frame.csv", result.frame)
+        if opt.vtu:
+            _write_state_vtus(tmp, result, "")
+            if opt.steps == "all":
+                (tmp / "steps").mkdir()
+                width = max(3, len(str(len(history))))
+                for k, state in enumerate(history, start=1):
+                    _write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}")
+                for n in series:
+                    _write_pvd(tmp / f"{n}.pvd", [
+                        (k, f"steps/{n}_{k:0{width}d}.vtu") for k in range(1, len(history) + 1)
+                    ])  # fmt: skip
+        if opt.csv:
+            for iface in result.interfaces:
+                _write_interface_csv(tmp / f"{iface.body}_interface.csv", iface)
+            _write_frame_csv(tmp / "frame.csv", result.frame)
+        if opt.figures:
+            from .plot import plot_frame_tractions
+
+            plot_frame_tractions(result, tmp / "frame_tractions.png", cells=_frame_cells(result))
     out = pathlib.Path(out_dir)
     return [out / f for f in files]
+
+
+def require_matplotlib(what: str) -> None:
+    """Raise ConfigError naming ``what`` if matplotlib cannot be imported."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ConfigError(
+            f"{what}: needs matplotlib, which is not installed; pip install matplotlib, or "
+            "turn figures off (problem file: [output] figures = false)"
+        ) from None
+
+
+def _write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str) -> None:
+    for sol, n in zip(result.bodies, result.names):
+        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol)
+    for sol, iface in zip(result.bodies, result.interfaces):
+        _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
+    _write_frame_vtu(directory / f"frame{suffix}.vtu", result)
+
+
+def _write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
+    """A ParaView collection: one ``DataSet`` per (time, relative file)."""
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+        "  <Collection>",
+        *(f'    <DataSet timestep="{t:g}" group="" part="0" file="{f}"/>' for t, f in entries),
+        "  </Collection>",
+        "</VTKFile>",
+    ]
+    path.write_text("\n".join(lines) + "\n")
 
 
 def write_summary(
@@ -206,7 +299,14 @@ def _staging(out_dir: str | os.PathLike) -> Iterator[pathlib.Path]:
             tmp.rename(out)
         else:
             for f in sorted(tmp.iterdir()):
-                os.replace(f, out / f.name)
+                target = out / f.name
+                if f.is_dir() and target.is_dir():  # a whole subdirectory is replaced
+                    old = out / f".{f.name}.old-{secrets.token_hex(4)}"
+                    target.rename(old)
+                    f.rename(target)
+                    shutil.rmtree(old, ignore_errors=True)
+                else:
+                    os.replace(f, target)
             tmp.rmdir()
     except BaseException:
         if tmp is not None:
@@ -365,5 +465,5 @@ def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
 
 
 __all__ = [
-    "write_results", "write_summary", "summary", "read_csv", "INTERFACE_COLUMNS", "FRAME_COLUMNS",
+    "OutputOptions", "write_results", "require_matplotlib", "write_summary", "summary", "read_csv", "INTERFACE_COLUMNS", "FRAME_COLUMNS",
 ]  # fmt: skip

@@ -300,10 +300,93 @@ def plot_force_displacement(
     return _save(fig, path)
 
 
+def _plane_coordinates(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, str, str]:
+    """2D coordinates of frame points in the plane of their mean normal: the
+    two global axes closest to that plane when it is a coordinate plane
+    (labels x, y, z), else an orthonormal in-plane basis (labels s, t)."""
+    n = normals[np.isfinite(normals).all(axis=1)].mean(axis=0) if normals.size else np.zeros(3)
+    if not np.isfinite(n).all() or np.linalg.norm(n) == 0.0:
+        n = np.array([0.0, 0.0, 1.0])
+    n = n / np.linalg.norm(n)
+    a = int(np.argmax(np.abs(n)))
+    if abs(n[a]) > 0.999:
+        i, j = [b for b in range(3) if b != a]
+        return points[:, [i, j]], "xyz"[i], "xyz"[j]
+    e1 = np.cross(n, np.eye(3)[int(np.argmin(np.abs(n)))])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    return np.column_stack([points @ e1, points @ e2]), "s", "t"
+
+
+def plot_frame_tractions(
+    source: ContactResult,
+    path: str | os.PathLike,
+    *,
+    cells=None,
+    length_unit: str = "",
+    stress_unit: str = "",
+) -> pathlib.Path:
+    """Maps of the contact pressure and of the tangential traction magnitude
+    on the contact frame (the contact law's nodes), seen along the frame's
+    mean normal, with the nodes' states (stick ``o``, slip ``^``) marked.
+
+    ``cells``: the frame's elements as meshio-style ``[(kind, conn)]``
+    (``io`` passes them); the fields are then drawn over the elements
+    (linear interpolation on their triangles), otherwise as coloured nodes.
+    Writes a PNG to ``path`` and returns it."""
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation
+
+    from .law import SLIP, STICK
+
+    if not isinstance(source, ContactResult):
+        raise ConfigError(
+            f"plot_frame_tractions: expected a ContactResult, got {type(source).__name__}"
+        )
+    fr = source.frame
+    xy, lx, ly = _plane_coordinates(fr.points, fr.normals)
+    tri = None
+    if cells:
+        kind, conn = cells[0]
+        conn = np.asarray(conn)
+        if kind == "quad":
+            conn = np.vstack([conn[:, [0, 1, 2]], conn[:, [0, 2, 3]]])
+        if kind in ("quad", "triangle") and conn.size:
+            tri = Triangulation(xy[:, 0], xy[:, 1], conn)
+    q = np.linalg.norm(fr.tangential_traction, axis=1)
+    lu = f" ({length_unit})" if length_unit else ""
+    su = f" ({stress_unit})" if stress_unit else ""
+    fig = Figure(figsize=(10.0, 4.4), layout="constrained")
+    axes = fig.subplots(1, 2)
+    for ax, values, label in zip(axes, (fr.pressure, q), ("contact pressure p", "|q| tangential")):
+        v = np.where(np.isfinite(values), values, 0.0)
+        if tri is not None:
+            art = ax.tripcolor(tri, v, shading="gouraud", cmap="viridis")
+        else:
+            art = ax.scatter(xy[:, 0], xy[:, 1], c=v, s=12, cmap="viridis")
+        fig.colorbar(art, ax=ax, label=label + su)
+        for st, marker in ((STICK, "o"), (SLIP, "^")):
+            m = fr.state == st
+            if m.any() and m.sum() <= 2000:
+                ax.plot(xy[m, 0], xy[m, 1], marker, markersize=2.0, color="w", alpha=0.7,
+                        linestyle="none", label="stick" if st == STICK else "slip")
+        ax.set_aspect("equal")
+        ax.set_xlabel(lx + lu)
+        ax.set_ylabel(ly + lu)
+        ax.set_title(label)
+    counts = fr.counts()
+    fig.suptitle(
+        f"contact frame: normal force {source.normal_force:.6g}, tangential force "
+        f"{source.tangential_force:.6g}; " + ", ".join(f"{v} {k}" for k, v in counts.items())
+    )
+    return _save(fig, path)
+
+
 __all__ = [
     "InterfaceLine",
     "interface_line",
     "plot_interface_line",
     "plot_radial_profile",
     "plot_force_displacement",
+    "plot_frame_tractions",
 ]

@@ -47,10 +47,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, NoReturn
 
+from . import schema
 from .body import Displacement, ElasticBody, Force, Pressure, Traction
 from .errors import BemcontactError, ConfigError
+from .io import OutputOptions, require_matplotlib
 from .material import LinearElastic
-from .mesh import ELEMENT_TYPES, SurfaceMesh, box, read_mesh
+from .mesh import SurfaceMesh, box, read_mesh
 from .solver import ContactPair, ContactProblem, LoadStep, SolverOptions
 
 #: The string that leaves a displacement or traction component unprescribed.
@@ -59,10 +61,6 @@ FREE = "free"
 NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
 #: Body names that would collide with other output files.
 RESERVED_NAMES = ("frame", "summary")
-#: Solver keys of a problem file (the fields of :class:`SolverOptions` but ``progress``).
-SOLVER_KEYS = tuple(f.name for f in dataclasses.fields(SolverOptions) if f.name != "progress")
-_INTEGER_SOLVER_KEYS = ("max_iterations", "load_steps", "threads", "watchdog")
-FRAME_RULES = ("mortar", "collocation")
 
 
 @dataclass(frozen=True)
@@ -82,6 +80,8 @@ class Problem:
     options: the :class:`~bemcontact.solver.SolverOptions`.
     steps: the :class:`~bemcontact.solver.LoadStep` history of the
         ``[[step]]`` sections (empty: one step to the bodies' conditions).
+    output: the :class:`~bemcontact.io.OutputOptions` of the ``[output]``
+        table (which files ``bemcontact run`` writes).
     echo: ``{"file": str(path), **content}``, the file's content as written
         (JSON-ready; written into ``summary.json``).
     """
@@ -94,6 +94,7 @@ class Problem:
     options: SolverOptions
     echo: dict[str, Any]
     steps: tuple[LoadStep, ...] = ()
+    output: OutputOptions = OutputOptions()
     _contact: ContactProblem = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -178,27 +179,74 @@ class _Reader:
         self.fail(where, text.rstrip("."), value, fix)
 
     # --------------------------------------------------------------- primitives
-    def table(
-        self, where: str, value: Any, required: tuple[str, ...], optional: tuple[str, ...] = ()
-    ) -> dict[str, Any]:
+    def table(self, where: str, value: Any, key: schema.Key) -> dict[str, Any]:
+        """``value`` must be a table holding only ``key``'s keys and all its required ones."""
         if not isinstance(value, dict):
-            self.fail(where, f"must be a table, not a {_type_name(value)}", value)
-        allowed = required + optional
-        for key in value:
-            if key not in allowed:
+            self.fail(where or "top level", f"must be a table, not a {_type_name(value)}", value)
+        allowed = key.allowed
+        for name in value:
+            if name not in allowed:
                 self.fail(
-                    f"{where}.{key}" if where else key,
+                    f"{where}.{name}" if where else name,
                     "unknown key",
-                    key,
-                    _suggest(key, allowed) or f"allowed keys: {', '.join(allowed)}",
+                    name,
+                    _suggest(name, allowed) or f"allowed keys: {', '.join(allowed)}",
                 )
-        for key in required:
-            if key not in value:
+        for name in key.needed:
+            if name not in value:
                 self.fail(
-                    f"{where}.{key}" if where else key, "missing required key", value,
-                    f"add {key} = ...",
+                    f"{where}.{name}" if where else name, "missing required key", value,
+                    f"add {name} = ...",
                 )
         return value
+
+    def value(self, where: str, value: Any, key: schema.Key) -> Any:
+        """A scalar, vector or string checked against its schema ``key``."""
+        if key.type in ("number", "integer"):
+            v = self.number(
+                where, value, integer=key.type == "integer", lo=key.lo, lo_open=key.lo_open,
+                hi=key.hi, hi_open=key.hi_open,
+            )
+            if key.choices and str(v) not in key.choices:
+                self.fail(where, f"must be one of {', '.join(key.choices)}", value)
+            return v
+        if key.type == "string":
+            return self.string(where, value, key.choices or None)
+        if key.type == "boolean":
+            if not isinstance(value, bool):
+                self.fail(where, f"must be true or false, not a {_type_name(value)}", value)
+            return value
+        if key.type == "vector":
+            return self.vector(where, value)
+        if key.type == "components":
+            return self.vector(where, value, free=True)
+        if key.type == "strings":
+            self.array(where, value, key.length)
+            return [self.string(f"{where}[{k}]", v) for k, v in enumerate(value)]
+        if key.type in ("number-or-vector", "integer-or-vector"):
+            integer = key.type == "integer-or-vector"
+            if isinstance(value, list):
+                self.array(where, value, 3)
+                return [
+                    self.number(f"{where}[{a}]", v, integer=integer, lo=key.lo,
+                                lo_open=key.lo_open)
+                    for a, v in enumerate(value)
+                ]
+            return self.number(where, value, integer=integer, lo=key.lo, lo_open=key.lo_open)
+        raise AssertionError(f"schema type {key.type} is not a value")  # pragma: no cover
+
+    def fields(self, where: str, t: dict, key: schema.Key) -> dict[str, Any]:
+        """Every scalar key of table ``t`` checked, defaults filled in (keys
+        without a default and not given are left out)."""
+        out = {}
+        for k in key.keys:
+            if k.type in ("table", "tables", "map"):
+                continue
+            if k.name in t:
+                out[k.name] = self.value(f"{where}.{k.name}" if where else k.name, t[k.name], k)
+            elif k.default is not schema.NO_DEFAULT:
+                out[k.name] = copy.deepcopy(k.default)
+        return out
 
     def number(
         self, where: str, value: Any, *, integer: bool = False, lo: float | None = None,
@@ -216,9 +264,14 @@ class _Reader:
             self.fail(where, f"must be a number, not a {_type_name(value)}", value)
         if not math.isfinite(value):
             self.fail(where, "must be finite", value)
-        if lo is not None and (value <= lo if lo_open else value < lo):
+        low = lo is not None and (value <= lo if lo_open else value < lo)
+        high = hi is not None and (value >= hi if hi_open else value > hi)
+        if (low or high) and lo is not None and hi is not None:
+            interval = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}"
+            self.fail(where, f"must be in {interval}", value)
+        if low:
             self.fail(where, f"must be {'>' if lo_open else '>='} {lo:g}", value)
-        if hi is not None and (value >= hi if hi_open else value > hi):
+        if high:
             self.fail(where, f"must be {'<' if hi_open else '<='} {hi:g}", value)
         return value if integer else float(value)
 
@@ -259,8 +312,9 @@ class _Reader:
 
     # --------------------------------------------------------------- sections
     def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> Problem:
-        self.table("", content, ("body", "contact"), ("title", "units", "solver", "step"))
-        title = self.string("title", content.get("title", ""))
+        R = schema.ROOT
+        self.table("", content, R)
+        top = self.fields("", content, R)
         units = self.units(content.get("units", {}))
         options = self.solver(content.get("solver", {}))
         raw_bodies = content["body"]
@@ -280,7 +334,10 @@ class _Reader:
         materials = [
             self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
         ]
-        order, surfaces, pair = self.contact(content["contact"], names, meshes)
+        order, surfaces, pair, penalty = self.contact(content["contact"], names, meshes)
+        if penalty is not None:
+            options = dataclasses.replace(options, penalty=penalty)
+        output = self.output(content.get("output", {}))
         bodies = []
         for i, b in enumerate(raw_bodies):
             contact_surface = surfaces[order.index(i)]
@@ -295,8 +352,8 @@ class _Reader:
                 self.wrap(where, exc, b["mesh"])
         ordered = (bodies[order[0]], bodies[order[1]])
         echo = {"file": str(path), **copy.deepcopy(content)}
-        steps = self.steps(content.get("step", []), names, meshes, bodies, surfaces, order)
-        problem = Problem(path, title, units, ordered, pair, options, echo, steps)
+        steps = self.steps(content.get("step", []), names, meshes, surfaces, order)
+        problem = Problem(path, top["title"], units, ordered, pair, options, echo, steps, output)
         if steps:
             try:
                 problem.contact_problem().states(steps)
@@ -312,16 +369,15 @@ class _Reader:
                 self.wrap("contact.surfaces", exc, list(surfaces))
         return problem
 
-    def steps(self, value, names, meshes, bodies, surfaces, order) -> tuple[LoadStep, ...]:
+    def steps(self, value, names, meshes, surfaces, order) -> tuple[LoadStep, ...]:
         if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
             self.fail("step", "must be an array of tables", value,
                       "write each load step as a [[step]] section")
         out = []
         for k, raw in enumerate(value):
             where = f"step[{k}]"
-            t = self.table(where, raw, (), ("label", "increments", "boundary_conditions"))
-            label = self.string(f"{where}.label", t.get("label", ""))
-            inc = self.number(f"{where}.increments", t.get("increments", 1), integer=True, lo=1)
+            t = self.table(where, raw, schema.STEP)
+            f = self.fields(where, t, schema.STEP)
             bwhere = f"{where}.boundary_conditions"
             bcs = t.get("boundary_conditions", {})
             if not isinstance(bcs, dict):
@@ -336,35 +392,44 @@ class _Reader:
                     f"{bwhere}.{name}", regions, meshes[i], surfaces[order.index(i)],
                     f"contact.surfaces[{order.index(i)}]",
                 )
-            out.append(LoadStep(changes, inc, label))
+            out.append(LoadStep(changes, f["increments"], f["label"]))
         return tuple(out)
 
     def units(self, value: Any) -> dict[str, str]:
-        t = self.table("units", value, (), ("length", "force", "stress"))
-        return {k: self.string(f"units.{k}", v) for k, v in t.items()}
+        key = schema.ROOT.key("units")
+        return self.fields("units", self.table("units", value, key), key)
+
+    def output(self, value: Any) -> OutputOptions:
+        key = schema.OUTPUT
+        out = OutputOptions(**self.fields("output", self.table("output", value, key), key))
+        if out.figures:
+            try:
+                require_matplotlib("output.figures")
+            except ConfigError:
+                self.fail("output.figures", "needs matplotlib, which is not installed", True,
+                          "pip install matplotlib, or set figures = false")
+        return out
 
     def solver(self, value: Any) -> SolverOptions:
-        t = self.table("solver", value, (), SOLVER_KEYS)
+        key = schema.SOLVER
+        t = self.table("solver", value, key)
         kwargs: dict[str, Any] = {}
-        for key, given in t.items():
-            where = f"solver.{key}"
-            if key in _INTEGER_SOLVER_KEYS:
-                v = self.number(where, given, integer=True, lo=0 if key == "watchdog" else 1)
-            else:
-                v = self.number(where, given)
-            try:  # the ranges are SolverOptions' own
-                SolverOptions(**{key: v})
-            except ConfigError as exc:
+        for name, given in t.items():
+            where = f"solver.{name}"
+            v = self.value(where, given, key.key(name))
+            try:  # the ranges are SolverOptions' own; the schema repeats them for the docs
+                SolverOptions(**{name: v})
+            except ConfigError as exc:  # pragma: no cover - schema and class agree (tested)
                 text = _one_line(str(exc))
-                text = re.sub(rf"^SolverOptions\.{key} ", "", text)
+                text = re.sub(rf"^SolverOptions\.{name} ", "", text)
                 text = re.sub(r", got .*$", "", text)
                 self.fail(where, text, given)
-            kwargs[key] = v
+            kwargs[name] = v
         return SolverOptions(**kwargs)
 
     def body_name(self, i: int, b: dict) -> str:
         where = f"body[{i}]"
-        self.table(where, b, ("name", "mesh", "material"), ("boundary_conditions",))
+        self.table(where, b, schema.BODY)
         name = self.string(f"{where}.name", b["name"])
         if not NAME_PATTERN.match(name):
             self.fail(
@@ -379,19 +444,28 @@ class _Reader:
         return name
 
     def mesh(self, where: str, value: Any) -> SurfaceMesh:
-        t = self.table(where, value, (), ("box", "file", "element_type"))
-        if ("box" in t) == ("file" in t):
-            self.fail(where, "give exactly one of box = {...} or file = \"...\"", value)
-        if "box" in t:
-            if "element_type" in t:
-                self.fail(f"{where}.element_type", "belongs inside box = {...} for a box mesh",
-                          t["element_type"])
+        t = self.table(where, value, schema.MESH)
+        given = [k for k in schema.MESH_SOURCES if k in t]
+        if len(given) != 1:
+            self.fail(
+                where, "give exactly one of " + ", ".join(schema.MESH_SOURCES)
+                + (f" (given: {', '.join(given)})" if given else ""), value,
+            )
+        source = given[0]
+        if "element_type" in t and source != "file":
+            self.fail(f"{where}.element_type", f"belongs inside {source} = {{...}} for a "
+                      "generated mesh" if source == "box" else "applies only to mesh files",
+                      t["element_type"])
+        if source == "box":
             return self.box(f"{where}.box", t["box"])
+        if source != "file":
+            return self.generated(f"{where}.{source}", source, t[source])
         fwhere = f"{where}.file"
         name = self.string(fwhere, t["file"])
         etype = None
         if "element_type" in t:
-            etype = self.string(f"{where}.element_type", t["element_type"], ELEMENT_TYPES)
+            etype = self.value(f"{where}.element_type", t["element_type"],
+                               schema.MESH.key("element_type"))
         full = self.base / name
         if not full.is_file():
             self.fail(fwhere, f"no such mesh file ({full})", name,
@@ -405,44 +479,53 @@ class _Reader:
             self.fail(fwhere, f"cannot use the mesh file: {text.rstrip('.')}", name)
 
     def box(self, where: str, value: Any) -> SurfaceMesh:
-        t = self.table(where, value, ("lower", "upper", "divisions"), ("element_type", "grading"))
-        lo = self.vector(f"{where}.lower", t["lower"])
-        hi = self.vector(f"{where}.upper", t["upper"])
+        t = self.table(where, value, schema.BOX)
+        f = self.fields(where, t, schema.BOX)
+        lo, hi = f["lower"], f["upper"]
         for a in range(3):
             if hi[a] <= lo[a]:
                 self.fail(
                     f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}", t["upper"][a]
                 )
-        div = t["divisions"]
-        if isinstance(div, list):
-            self.array(f"{where}.divisions", div, 3)
-            for a, d in enumerate(div):
-                self.number(f"{where}.divisions[{a}]", d, integer=True, lo=1)
-        else:
-            self.number(f"{where}.divisions", div, integer=True, lo=1)
-        etype = self.string(f"{where}.element_type", t.get("element_type", "quad4"), ELEMENT_TYPES)
-        grading = t.get("grading", 1.0)
-        if isinstance(grading, list):
-            self.array(f"{where}.grading", grading, 3)
-            grading = [
-                self.number(f"{where}.grading[{a}]", g, lo=0, lo_open=True)
-                for a, g in enumerate(grading)
-            ]
-        else:
-            grading = self.number(f"{where}.grading", grading, lo=0, lo_open=True)
         try:
-            return box(lo, hi, div, etype, grading)
+            return box(lo, hi, f["divisions"], f["element_type"], f["grading"])
+        except BemcontactError as exc:
+            self.wrap(where, exc, value)
+
+    def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
+        """``cap``, ``punch`` or ``graded_box``: a gmsh-generated mesh."""
+        from . import geometry
+
+        key = schema.MESH.key(source)
+        t = self.table(where, value, key)
+        f = self.fields(where, t, key)
+        if f["coarse_size"] < f["fine_size"]:
+            self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
+                      t["coarse_size"])
+        if source == "cap":
+            if not f["height"] < 2 * f["radius"]:
+                self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",
+                          t["height"], "height = radius is a hemisphere")
+            make, args = geometry.spherical_cap, (f.pop("radius"), f.pop("height"))
+        elif source == "punch":
+            make, args = geometry.punch, (f.pop("radius"), f.pop("height"))
+        else:
+            lo, hi = f.pop("lower"), f.pop("upper")
+            for a in range(3):
+                if hi[a] <= lo[a]:
+                    self.fail(f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}",
+                              t["upper"][a])
+            make, args = geometry.graded_block, (lo, hi, f.pop("focus"))
+        try:
+            return make(*args, **f)
         except BemcontactError as exc:
             self.wrap(where, exc, value)
 
     def material(self, where: str, value: Any) -> LinearElastic:
-        t = self.table(where, value, ("youngs_modulus", "poisson_ratio"))
-        E = self.number(f"{where}.youngs_modulus", t["youngs_modulus"], lo=0, lo_open=True)
-        nu = self.number(
-            f"{where}.poisson_ratio", t["poisson_ratio"], lo=-1, lo_open=True, hi=0.5, hi_open=True
-        )
+        t = self.table(where, value, schema.MATERIAL)
+        f = self.fields(where, t, schema.MATERIAL)
         try:
-            return LinearElastic(youngs_modulus=E, poisson_ratio=nu)
+            return LinearElastic(**f)
         except BemcontactError as exc:  # pragma: no cover - the ranges are checked above
             self.wrap(where, exc, value)
 
@@ -469,7 +552,7 @@ class _Reader:
         return out
 
     def condition(self, where: str, value: Any) -> list:
-        t = self.table(where, value, (), ("displacement", "traction", "pressure", "force"))
+        t = self.table(where, value, schema.CONDITION)
         if not t:
             self.fail(
                 where, "no condition given (a region without conditions is traction free)",
@@ -503,16 +586,12 @@ class _Reader:
 
     def contact(
         self, value: Any, names: list[str], meshes: list[SurfaceMesh]
-    ) -> tuple[tuple[int, int], tuple[str, str], ContactPair]:
-        t = self.table(
-            "contact", value, ("surfaces",),
-            ("bodies", "friction_coefficient", "frame", "search_distance", "frame_on"),
-        )
-        bodies = t.get("bodies", list(names))
-        self.array("contact.bodies", bodies, 2)
+    ) -> tuple[tuple[int, int], tuple[str, str], ContactPair, float | None]:
+        key = schema.CONTACT
+        t = self.table("contact", value, key)
+        bodies = self.value("contact.bodies", t.get("bodies", list(names)), key.key("bodies"))
         order = []
         for k, b in enumerate(bodies):
-            self.string(f"contact.bodies[{k}]", b)
             if b not in names:
                 self.fail(
                     f"contact.bodies[{k}]", f"no body of that name (bodies: {', '.join(names)})",
@@ -521,31 +600,28 @@ class _Reader:
             order.append(names.index(b))
         if order[0] == order[1]:
             self.fail("contact.bodies", "the two contact bodies must differ", bodies)
-        surfaces = self.array("contact.surfaces", t["surfaces"], 2)
+        surfaces = self.value("contact.surfaces", t["surfaces"], key.key("surfaces"))
         for k, s in enumerate(surfaces):
-            self.string(f"contact.surfaces[{k}]", s)
             regions = meshes[order[k]].region_names
             if s not in regions:
                 self.fail(
                     f"contact.surfaces[{k}]", f"body {bodies[k]!r} has no region {s!r} (its "
                     f"regions: {', '.join(regions)})", s, _suggest(s, regions),
                 )
-        mu = self.number("contact.friction_coefficient", t.get("friction_coefficient", 0.0), lo=0)
-        rule = self.string("contact.frame", t.get("frame", "mortar"), FRAME_RULES)
-        search = None
-        if "search_distance" in t:
-            search = self.number("contact.search_distance", t["search_distance"], lo=0,
-                                 lo_open=True)
-        frame_on = "coarser"
-        if "frame_on" in t:
-            on = self.string("contact.frame_on", t["frame_on"], ["coarser", *bodies])
-            frame_on = on if on == "coarser" else f"body{bodies.index(on) + 1}"
+        f = self.fields("contact", t, key)
+        on = f["frame_on"]
+        if on not in ("coarser", *bodies):
+            choices = ("coarser", *bodies)
+            self.fail("contact.frame_on", f"must be one of {', '.join(choices)}", on,
+                      _suggest(on, choices))
+        frame_on = on if on == "coarser" else f"body{bodies.index(on) + 1}"
         try:
-            pair = ContactPair(surfaces[0], surfaces[1], friction_coefficient=mu, frame=rule,
-                               search_distance=search, frame_on=frame_on)
+            pair = ContactPair(surfaces[0], surfaces[1],
+                               friction_coefficient=f["friction_coefficient"], frame=f["frame"],
+                               search_distance=f.get("search_distance"), frame_on=frame_on)
         except BemcontactError as exc:  # pragma: no cover - checked above
             self.wrap("contact", exc, value)
-        return (order[0], order[1]), (surfaces[0], surfaces[1]), pair
+        return (order[0], order[1]), (surfaces[0], surfaces[1]), pair, f.get("penalty")
 
 
 def _type_name(value: Any) -> str:

@@ -17,8 +17,10 @@ from bemcontact import io
 from bemcontact.plot import interface_line, plot_interface_line
 
 FILES = [
-    "summary.json", "lower.vtu", "upper.vtu", "lower_interface.vtu", "lower_interface.csv",
-    "upper_interface.vtu", "upper_interface.csv", "frame.vtu", "frame.csv",
+    "summary.json", "lower.vtu", "upper.vtu", "lower_interface.vtu", "upper_interface.vtu",
+    "frame.vtu", "lower.pvd", "upper.pvd", "lower_interface.pvd", "upper_interface.pvd",
+    "frame.pvd", "lower_interface.csv", "upper_interface.csv", "frame.csv",
+    "frame_tractions.png",
 ]  # fmt: skip
 
 
@@ -51,7 +53,7 @@ def written(result, tmp_path_factory):
 def test_write_results_creates_the_listed_files(written):
     out, files = written
     assert [f.name for f in files] == FILES
-    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
+    assert sorted(p.name for p in out.iterdir()) == sorted([*FILES, "steps"])
     assert [p.name for p in out.parent.iterdir()] == ["run"]  # no temporary left
 
 
@@ -201,3 +203,92 @@ def test_plot_interface_line_writes_a_png(written, result, tmp_path):
     png = plot_interface_line({"from memory": result, "from disk": out}, tmp_path / "f.png")
     assert png == tmp_path / "f.png"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# ------------------------------------------------------------ load-step series and options
+
+
+def test_pvd_collections_list_one_vtu_per_load_step(written, result):
+    """Each VTU series has a PVD collection whose data sets are the per-step
+    files, in order, and the last step's file equals the final-state file."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
+
+    out, _ = written
+    n = len(result.history)
+    assert n >= 1
+    for name in ("lower", "upper_interface", "frame"):
+        root = ET.parse(out / f"{name}.pvd").getroot()
+        assert root.get("type") == "Collection"
+        sets = root.find("Collection").findall("DataSet")
+        assert [float(d.get("timestep")) for d in sets] == list(range(1, n + 1))
+        files = [d.get("file") for d in sets]
+        assert all((out / f).is_file() for f in files)
+        last = meshio.read(out / files[-1])
+        final = meshio.read(out / f"{name}.vtu")
+        for key in final.point_data:
+            np.testing.assert_array_equal(last.point_data[key], final.point_data[key])
+
+
+def test_steps_of_a_history_are_written_per_step(tmp_path):
+    """A two-step history (displacement 0.01 then 0.02): two numbered files
+    per series whose frame pressures differ, the second equal to the final."""
+    import meshio
+
+    lower = bc.ElasticBody(
+        bc.box((0, 0, 0), (1, 1, 1), 2), bc.LinearElastic(1e4, 0.3), {"zmin": bc.Fixed()},
+        name="lower",
+    )
+    upper = bc.ElasticBody(
+        bc.box((0, 0, 1), (1, 1, 2), 2), bc.LinearElastic(1e4, 0.3),
+        {"zmax": bc.Displacement((0, 0, -0.01))}, name="upper",
+    )
+    steps = [
+        bc.LoadStep({}, 1, "half"),
+        bc.LoadStep({"upper": {"zmax": [bc.Displacement((0, 0, -0.02))]}}, 1, "full"),
+    ]
+    r = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin")).solve(
+        bc.SolverOptions(threads=1), steps=steps
+    )
+    io.write_results(r, tmp_path / "out", options=io.OutputOptions(figures=False, csv=False))
+    out = tmp_path / "out"
+    p1 = meshio.read(out / "steps" / "frame_001.vtu").point_data["pressure"]
+    p2 = meshio.read(out / "steps" / "frame_002.vtu").point_data["pressure"]
+    # linear elastic, full contact: the second step's pressure is twice the first
+    np.testing.assert_allclose(p2, 2 * p1, rtol=1e-8, atol=1e-12 * np.abs(p2).max())
+    np.testing.assert_array_equal(meshio.read(out / "frame.vtu").point_data["pressure"], p2)
+    assert not list(out.glob("*.csv")) and not list(out.glob("*.png"))
+
+
+def test_rewrite_replaces_the_steps_directory_whole(result, tmp_path):
+    out = tmp_path / "out"
+    io.write_results(result, out, options=io.OutputOptions(figures=False))
+    (out / "steps" / "stale_999.vtu").write_text("old")
+    io.write_results(result, out, options=io.OutputOptions(figures=False))
+    assert not (out / "steps" / "stale_999.vtu").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no .old/.tmp left
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_output_options_last_only_and_validation(result, tmp_path):
+    files = io.write_results(
+        result, tmp_path / "o", options=io.OutputOptions(steps="last", csv=False, figures=False)
+    )
+    assert sorted(f.name for f in files) == sorted(
+        ["summary.json", "lower.vtu", "upper.vtu", "lower_interface.vtu", "upper_interface.vtu",
+         "frame.vtu"]
+    )
+    assert not (tmp_path / "o" / "steps").exists()
+    with pytest.raises(bc.ConfigError, match="OutputOptions.steps must be 'all' or 'last'"):
+        io.OutputOptions(steps="every")
+    with pytest.raises(bc.ConfigError, match="OutputOptions.vtu must be True or False"):
+        io.OutputOptions(vtu=1)
+
+
+def test_frame_tractions_png(written):
+    from PIL import Image
+
+    out, _ = written
+    with Image.open(out / "frame_tractions.png") as img:
+        assert img.format == "PNG" and img.size[0] > 1000

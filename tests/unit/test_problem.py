@@ -212,10 +212,10 @@ BAD = {
         "must be > 0"),
     "nu = 0.5": (
         "poisson_ratio = 0.3", "poisson_ratio = 0.5", "body[0].material.poisson_ratio", "0.5",
-        "must be < 0.5"),
+        "must be in (-1, 0.5)"),
     "nu = -1": (
         "poisson_ratio = 0.3", "poisson_ratio = -1", "body[0].material.poisson_ratio", "-1",
-        "must be > -1"),
+        "must be in (-1, 0.5)"),
     "string modulus": (
         "youngs_modulus = 1e4", 'youngs_modulus = "1e4"', "body[0].material.youngs_modulus",
         "'1e4'", "not a string"),
