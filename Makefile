@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 CPP_SRC := $(wildcard cpp/bemcontact/*.cpp cpp/bemcontact/*.hpp)
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
-RUN_DEPS := numpy scipy meshio threadpoolctl gmsh matplotlib pytest hypothesis mkdocs
+RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs
 
 .PHONY: all install demo test test-fast bench docs clean
 

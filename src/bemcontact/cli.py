@@ -1,6 +1,6 @@
 """The ``bemcontact`` command.  No numerics here: only the public API.
 
-    bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--debug]
+    bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--progress M] [--debug]
     bemcontact check PROBLEM.toml [--debug]
     bemcontact mesh-info MESH [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
@@ -63,6 +63,10 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--threads", metavar="N", type=_positive_int,
                      help="assembly threads (overrides solver.threads; default all cores)")
     run.add_argument("--quiet", action="store_true", help="print nothing on success")
+    run.add_argument("--progress", choices=("auto", "live", "lines", "none"), default="auto",
+                     help="progress display on stderr: live (rich) when stderr is a terminal, "
+                     "lines (one per stage, increment and Newton iteration), none; default auto: "
+                     "live on a terminal, none otherwise or with --quiet")
     run.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     check = sub.add_parser(
         "check", help="validate a problem file and print what would be solved",
@@ -266,8 +270,28 @@ def _error(message: str) -> None:
     print(f"bemcontact: error: {' '.join(str(message).split())}", file=sys.stderr)
 
 
+def _progress(args: argparse.Namespace):
+    """The progress reporter and the context it runs in (see ``--progress``)."""
+    import contextlib
+
+    mode = args.progress
+    if mode == "auto":
+        mode = "none" if args.quiet or not sys.stderr.isatty() else "live"
+    if mode == "live":
+        from .progress import LiveProgress
+
+        live = LiveProgress()
+        return live, live
+    if mode == "lines":
+        from .progress import print_lines
+
+        return print_lines, contextlib.nullcontext()
+    return None, contextlib.nullcontext()
+
+
 def _run(args: argparse.Namespace) -> int:
     out: pathlib.Path = args.out
+    problem = None
     try:
         if out.exists() and not out.is_dir():
             _error(f"{out}: --out: exists and is not a directory")
@@ -276,7 +300,11 @@ def _run(args: argparse.Namespace) -> int:
         options = problem.options
         if args.threads is not None:
             options = dataclasses.replace(options, threads=args.threads)
-        result = problem.contact_problem().solve(options, steps=problem.steps or None)
+        report, shown = _progress(args)
+        with shown:
+            result = problem.contact_problem().solve(
+                options, steps=problem.steps or None, progress=report
+            )
         files = write_results(result, out, problem.echo, problem.output)
     except ConvergenceError as exc:
         if args.debug:

@@ -13,7 +13,6 @@ halved until Psi = 1/2 |Phi|^2 decreases by the factor (1 - 2 sigma alpha).
 from __future__ import annotations
 
 import math
-import sys
 import time
 import warnings
 from collections.abc import Mapping
@@ -28,6 +27,7 @@ from .body import BodySolution, ElasticBody
 from .operators import assemble_system
 from .errors import ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
+from .progress import ProgressEvent, Reporter, Stopwatch, print_lines
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
 
 
@@ -140,7 +140,9 @@ class SolverOptions:
     threads:
         OpenMP threads for assembly (default: all).
     progress:
-        Print one line per Newton iteration.
+        Print the stages, load increments and Newton iterations on stderr
+        (:func:`bemcontact.progress.print_lines`; ``ContactProblem.solve``
+        also takes any ``progress`` callable).
     """
 
     tolerance: float = 1e-10
@@ -229,16 +231,22 @@ class CondensedBody:
 
 
 def condense(
-    body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None
+    body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
+    progress: Reporter | None = None,
 ) -> CondensedBody:
     """Assemble the body's BEM system once, factor it, and solve for the
     response to unit tractions at each contact dof (``nodes``: the contact
     functional nodes, which must carry no boundary condition), to each
     boundary-condition state in ``states`` (checked condition mappings with
     the same kind per dof; default: the body's own) and to unit platen
-    translations of the force-controlled components."""
+    translations of the force-controlled components.  ``progress`` receives
+    the start and end events of the ``assembly`` and ``condensation`` stages
+    (:mod:`bemcontact.progress`)."""
     d = body.discretization
     t0 = time.perf_counter()
+    what = f"{body.name}: {d.n_points:,} nodes, {nodes.size:,} on the contact surface"
+    if progress is not None:
+        progress(ProgressEvent("start", "assembly", f"assembly {what}"))
     states = [body.boundary_conditions] if states is None else list(states)
     data = [body.boundary_data(c) for c in states]
     known_u = data[0][0]  # the same for every state (checked by ContactProblem.states)
@@ -273,6 +281,9 @@ def condense(
         threads, border=nf,
     )
     t1 = time.perf_counter()
+    if progress is not None:
+        progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
+        progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
     n = 3 * d.n_points
     rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
     if nf:
@@ -296,6 +307,9 @@ def condense(
                 _, _, _, rq = d.interpolate(Rf[:, i].reshape(-1, 3))
                 modal[i, s_] = float(np.einsum("eq,eqk,eqk->", W, rq, tq))
     t2 = time.perf_counter()
+    if progress is not None:
+        progress(ProgressEvent("end", "condensation", f"condensation {body.name}",
+                               seconds=t2 - t1))
     return CondensedBody(
         body, nodes, dofs, known_u, values, x0, X, Rf, modal, controls, Y,
         body.control_rows(controls), forces,
@@ -462,6 +476,7 @@ class ContactProblem:
         *,
         steps=None,
         raise_on_failure: bool = True,
+        progress: Reporter | None = None,
     ) -> ContactResult:
         """Condense both bodies, then run the generalized Newton method for
         each increment of the loading history.
@@ -472,10 +487,18 @@ class ContactProblem:
         ``history`` lists the results at the end of every step.  Raises
         :class:`ConvergenceError` (carrying the result so far and its
         residual history) if an increment fails, unless ``raise_on_failure``
-        is False."""
+        is False.
+
+        ``progress``: a callable receiving :class:`~bemcontact.progress.ProgressEvent` objects
+        (stages, load increments, Newton iterations), e.g.
+        :class:`~bemcontact.progress.LiveProgress`; default
+        :func:`~bemcontact.progress.print_lines` if ``options.progress``, else none."""
         opt = options or SolverOptions()
         if not isinstance(opt, SolverOptions):
             raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
+        if progress is not None and not callable(progress):
+            raise ConfigError(f"progress must be callable or None, got {progress!r}")
+        report = progress if progress is not None else (print_lines if opt.progress else None)
         if steps is None:
             steps = [LoadStep(increments=opt.load_steps)]
         steps = list(steps)
@@ -483,10 +506,11 @@ class ContactProblem:
             raise ConfigError("steps must hold at least one LoadStep")
         states = self.states(steps)
         t0 = time.perf_counter()
-        frame = self.frame
+        with Stopwatch(report, "frame", "contact frame"):
+            frame = self.frame
         t1 = time.perf_counter()
         cb = tuple(
-            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states])
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report)
             for a, b in enumerate(self.bodies)
         )
         t2 = time.perf_counter()
@@ -499,6 +523,8 @@ class ContactProblem:
         failed: str | None = None
         S = len(steps)
         ell = np.zeros(S)
+        total = sum(st.increments for st in steps)
+        done = 0
         for s_, step in enumerate(steps):
             prev = ell.copy()
             target = np.zeros(S)
@@ -508,7 +534,12 @@ class ContactProblem:
                 tau = i / step.increments
                 ell = (1 - tau) * prev + tau * target
                 k_start = k_prev
-                z, rec, msg = system.newton(z, ell, k_prev, opt, f"{name} increment {i}")
+                done += 1
+                if report is not None:
+                    report(ProgressEvent("increment", "newton",
+                                         f"{name} increment {i}/{step.increments}",
+                                         index=done, total=total))
+                z, rec, msg = system.newton(z, ell, k_prev, opt, report, done, total)
                 rec.load_factor = tau
                 rec.step = s_ + 1
                 rec.label = step.label
@@ -524,6 +555,10 @@ class ContactProblem:
                 res.label = step.label
                 history.append(res)
         t4 = time.perf_counter()
+        if report is not None and failed is None:
+            its = sum(r.iterations for r in records)
+            report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
+                                 "iteration(s)", index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
         result = system.result(z, ell, k_start, records, self.bodies)
         result.label = steps[len(history) if failed else -1].label
@@ -708,7 +743,8 @@ class _InterfaceSystem:
         J[3 * mc :] = self._eq
         return J, rows, state
 
-    def newton(self, z, ell, k_prev, opt: SolverOptions, where: str = ""):
+    def newton(self, z, ell, k_prev, opt: SolverOptions, report: Reporter | None = None,
+               index: int = 0, total: int = 0):
         hist: list[float] = []
         steps: list[float] = []
         phi = self.residual(z, ell, k_prev)
@@ -721,8 +757,9 @@ class _InterfaceSystem:
             lam_scale = max(scale, np.abs(z[: 3 * self.m]).max(initial=0.0))
             err = np.abs(phi).max(initial=0.0) / lam_scale
             hist.append(float(err))
-            if opt.progress:
-                print(f"  {where}  iteration {it:3d}  residual {err:.3e}", file=sys.stderr)
+            if report is not None:
+                report(ProgressEvent("iteration", "newton", "", index=index, total=total,
+                                     iteration=it, residual=float(err)))
             if err <= opt.tolerance:
                 break
             if it >= opt.max_iterations:
