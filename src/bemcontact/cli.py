@@ -29,6 +29,7 @@ from . import __version__
 from .errors import BemcontactError, ConvergenceError
 from .io import write_results, write_summary
 from .problem import load_problem
+from .schema import MAX_THREADS
 
 EXIT_OK = 0
 EXIT_INPUT = 2
@@ -42,6 +43,13 @@ def _positive_int(text: str) -> int:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
     if n < 1:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return n
+
+
+def _threads(text: str) -> int:
+    n = _positive_int(text)
+    if n > MAX_THREADS:
+        raise argparse.ArgumentTypeError(f"must be an integer in [1, {MAX_THREADS}], got {text!r}")
     return n
 
 
@@ -60,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
     run.add_argument("--out", metavar="DIR", type=pathlib.Path, required=True,
                      help="output directory (created when the results are written)")
-    run.add_argument("--threads", metavar="N", type=_positive_int,
+    run.add_argument("--threads", metavar="N", type=_threads,
                      help="assembly threads (overrides solver.threads; default all cores)")
     run.add_argument("--quiet", action="store_true", help="print nothing on success")
     run.add_argument("--progress", choices=("auto", "live", "lines", "none"), default="auto",
@@ -100,7 +108,7 @@ def _parser() -> argparse.ArgumentParser:
                      help="linear solver (default: auto, dense for small bodies)")
     one.add_argument("--eps", metavar="E", type=float, default=1e-7,
                      help="H-matrix block accuracy (default 1e-7)")
-    one.add_argument("--threads", metavar="N", type=_positive_int,
+    one.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     one.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     two = bsub.add_parser(
@@ -111,7 +119,7 @@ def _parser() -> argparse.ArgumentParser:
     two.add_argument("--divisions", metavar="K", type=_positive_int, required=True)
     two.add_argument("--case", choices=("similar", "dissimilar"), default="dissimilar")
     two.add_argument("--json", metavar="FILE", type=pathlib.Path, help="write the record here")
-    two.add_argument("--threads", metavar="N", type=_positive_int,
+    two.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     two.add_argument("--debug", action="store_true", help="show tracebacks of errors")
     return p

@@ -26,6 +26,10 @@ import numpy as np
 from .errors import MeshError
 
 #: Element type names in code order (the compiled core uses the index).
+#: Largest accepted |coordinate| (beyond it, Jacobians and normals overflow).
+MAX_COORDINATE = 1e100
+#: Most surface elements a mesh may have (far beyond what fits in memory).
+MAX_ELEMENTS = 10_000_000
 ELEMENT_TYPES: tuple[str, ...] = ("tri3", "tri6", "quad4", "quad8", "quad9")
 NODES_PER_ELEMENT: dict[str, int] = {"tri3": 3, "tri6": 6, "quad4": 4, "quad8": 8, "quad9": 9}
 CORNERS: dict[str, int] = {"tri3": 3, "tri6": 3, "quad4": 4, "quad8": 4, "quad9": 4}
@@ -119,6 +123,12 @@ class SurfaceMesh:
             raise MeshError(
                 f"{where}node {bad[0]} has non-finite coordinates {X[bad[0]].tolist()}"
                 + (f" ({bad.size} such nodes)" if bad.size > 1 else "")
+            )
+        big = np.flatnonzero((np.abs(X) > MAX_COORDINATE).any(axis=1))
+        if big.size:
+            raise MeshError(
+                f"{where}node {big[0]} has coordinates {X[big[0]].tolist()} beyond "
+                f"±{MAX_COORDINATE:g}; use other length units"
             )
         k = NODES_PER_ELEMENT[element_type]
         try:
@@ -503,10 +513,26 @@ def box(
     if (hi <= lo).any():
         a = int(np.flatnonzero(hi <= lo)[0])
         raise MeshError(f"box: upper[{a}] = {hi[a]} must exceed lower[{a}] = {lo[a]}")
-    div = np.broadcast_to(np.asarray(divisions), (3,))
-    if not all(isinstance(int(d), int) and float(d) == int(d) and d >= 1 for d in div):
+    div = np.broadcast_to(np.asarray(divisions, dtype=object), (3,))
+
+    def whole(d) -> bool:
+        if isinstance(d, (bool, np.bool_)):
+            return False
+        if isinstance(d, (int, np.integer)):
+            return d >= 1
+        return isinstance(d, (float, np.floating)) and math.isfinite(d) and d.is_integer() \
+            and d >= 1
+
+    if not all(whole(d) for d in div):
         raise MeshError(f"box: divisions must be integers >= 1, got {divisions!r}")
-    div = div.astype(int)
+    nx, ny, nz = (int(d) for d in div)
+    count = 2 * (nx * ny + ny * nz + nx * nz)
+    if count > MAX_ELEMENTS:
+        raise MeshError(
+            f"box: divisions {[nx, ny, nz]} give {count:,} surface elements, more than the "
+            f"{MAX_ELEMENTS:,} bemcontact accepts"
+        )
+    div = np.array([nx, ny, nz], dtype=int)
     grd = np.broadcast_to(np.asarray(grading, float), (3,))
     if not (np.isfinite(grd).all() and (grd > 0).all()):
         raise MeshError(f"box: grading must be positive numbers, got {grading!r}")
@@ -584,6 +610,23 @@ def box(
 
 
 # ------------------------------------------------------------------- files
+def _gmsh_physical_names(path: str) -> list[tuple[int, int, str]]:
+    """(dimension, tag, name) of a gmsh .msh file's $PhysicalNames section
+    (ASCII in both the ASCII and the binary formats); [] if there is none."""
+    with open(path, "rb") as f:
+        data = f.read()
+    start = data.find(b"$PhysicalNames")
+    end = data.find(b"$EndPhysicalNames", start)
+    if start < 0 or end < 0:
+        return []
+    out = []
+    for line in data[start:end].decode("utf-8", "replace").splitlines()[2:]:
+        parts = line.split(maxsplit=2)
+        if len(parts) == 3 and parts[0].isdigit() and parts[1].lstrip("-").isdigit():
+            out.append((int(parts[0]), int(parts[1]), parts[2].strip().strip('"')))
+    return out
+
+
 def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> SurfaceMesh:
     """Read a surface mesh from any file meshio reads (gmsh ``.msh``, VTU, ...).
 
@@ -599,6 +642,19 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     p = os.fspath(path)
     if not os.path.exists(p):
         raise MeshError(f"{p}: no such file")
+    if os.path.isdir(p):
+        raise MeshError(f"{p}: is a directory, not a mesh file")
+    if p.lower().endswith(".msh"):
+        seen: dict[str, int] = {}
+        for dim, tag, name in _gmsh_physical_names(p):
+            if dim != 2:
+                continue
+            if name in seen:
+                raise MeshError(
+                    f"{p}: two physical surface groups are named {name!r} (tags {seen[name]} "
+                    f"and {tag}); give each group its own name (or merge them in gmsh)"
+                )
+            seen[name] = tag
     captured = io.StringIO()
     try:
         with contextlib.redirect_stderr(captured), contextlib.redirect_stdout(captured):
@@ -643,6 +699,11 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
         regions = {"surface": np.arange(conn.shape[0])}
     # drop nodes not used by surface elements (volume meshes keep interior nodes)
     used = np.unique(conn)
+    if used.size and (used[0] < 0 or used[-1] >= m.points.shape[0]):
+        raise MeshError(
+            f"{p}: an element refers to node {int(used[-1] if used[-1] >= 0 else used[0])}, but "
+            f"the file has {m.points.shape[0]} nodes (numbered from 0)"
+        )
     remap = np.full(m.points.shape[0], -1, dtype=np.int64)
     remap[used] = np.arange(used.size)
     pts = np.asarray(m.points, dtype=float)
@@ -651,4 +712,4 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     return SurfaceMesh(pts[used], remap[conn], element_type, regions, source=p)
 
 
-__all__ = ["SurfaceMesh", "SurfaceQuadrature", "box", "read_mesh", "ELEMENT_TYPES"]
+__all__ = ["MAX_COORDINATE", "MAX_ELEMENTS", "SurfaceMesh", "SurfaceQuadrature", "box", "read_mesh", "ELEMENT_TYPES"]

@@ -52,7 +52,7 @@ from .body import Displacement, ElasticBody, Force, Pressure, Traction
 from .errors import BemcontactError, ConfigError
 from .io import OutputOptions, require_matplotlib
 from .material import LinearElastic
-from .mesh import SurfaceMesh, box, read_mesh
+from .mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
 from .solver import ContactPair, ContactProblem, LoadStep, SolverOptions
 
 #: The string that leaves a displacement or traction component unprescribed.
@@ -134,6 +134,13 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
             content = tomllib.load(f)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{src}: not a valid TOML file: {_one_line(str(exc))}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{src}: not a UTF-8 text file (byte {exc.start}: {exc.reason}); problem files are "
+            "TOML, which is UTF-8"
+        ) from None
+    except IsADirectoryError:
+        raise ConfigError(f"{src}: is a directory, not a problem file") from None
     except OSError as exc:
         raise ConfigError(
             f"{src}: cannot read the problem file: {exc.strerror or exc}"
@@ -182,7 +189,7 @@ class _Reader:
     def table(self, where: str, value: Any, key: schema.Key) -> dict[str, Any]:
         """``value`` must be a table holding only ``key``'s keys and all its required ones."""
         if not isinstance(value, dict):
-            self.fail(where or "top level", f"must be a table, not a {_type_name(value)}", value)
+            self.fail(where or "top level", f"must be a table, not {_a(value)}", value)
         allowed = key.allowed
         for name in value:
             if name not in allowed:
@@ -214,7 +221,7 @@ class _Reader:
             return self.string(where, value, key.choices or None)
         if key.type == "boolean":
             if not isinstance(value, bool):
-                self.fail(where, f"must be true or false, not a {_type_name(value)}", value)
+                self.fail(where, f"must be true or false, not {_a(value)}", value)
             return value
         if key.type == "vector":
             return self.vector(where, value)
@@ -257,13 +264,20 @@ class _Reader:
             self.fail(where, f"must be {kind}, not a boolean", value)
         if integer:
             if not isinstance(value, int):
-                whole = isinstance(value, float) and value.is_integer()
+                whole = isinstance(value, float) and math.isfinite(value) and value.is_integer()
                 fix = f"write {int(value)}" if whole else ""
-                self.fail(where, f"must be an integer, not a {_type_name(value)}", value, fix)
+                self.fail(where, f"must be an integer, not {_a(value)}", value, fix)
         elif not isinstance(value, (int, float)):
-            self.fail(where, f"must be a number, not a {_type_name(value)}", value)
-        if not math.isfinite(value):
+            self.fail(where, f"must be a number, not {_a(value)}", value)
+        try:
+            finite = math.isfinite(value)
+        except OverflowError:  # an integer beyond the float range
+            finite = False
+        if not finite:
             self.fail(where, "must be finite", value)
+        if not (value == 0 or schema.SMALLEST <= abs(value) <= schema.LARGEST):
+            self.fail(where, f"must be 0 or of magnitude {schema.SMALLEST:g} to "
+                      f"{schema.LARGEST:g}", value, "use other units")
         low = lo is not None and (value <= lo if lo_open else value < lo)
         high = hi is not None and (value >= hi if hi_open else value > hi)
         if (low or high) and lo is not None and hi is not None:
@@ -277,7 +291,7 @@ class _Reader:
 
     def string(self, where: str, value: Any, choices: tuple[str, ...] | None = None) -> str:
         if not isinstance(value, str):
-            self.fail(where, f"must be a string, not a {_type_name(value)}", value)
+            self.fail(where, f"must be a string, not {_a(value)}", value)
         if choices is not None and value not in choices:
             self.fail(
                 where, f"must be one of {', '.join(choices)}", value, _suggest(value, choices)
@@ -287,7 +301,7 @@ class _Reader:
     def array(self, where: str, value: Any, length: int) -> list:
         if not isinstance(value, list):
             self.fail(
-                where, f"must be an array of {length} values, not a {_type_name(value)}", value
+                where, f"must be an array of {length} values, not {_a(value)}", value
             )
         if len(value) != length:
             self.fail(where, f"must have {length} values, not {len(value)}", value)
@@ -304,7 +318,7 @@ class _Reader:
                 out.append(None)
             elif free and (isinstance(c, bool) or not isinstance(c, (int, float))):
                 self.fail(
-                    f"{where}[{i}]", f'must be a number or "{FREE}", not a {_type_name(c)}', c
+                    f"{where}[{i}]", f'must be a number or "{FREE}", not {_a(c)}', c
                 )
             else:
                 out.append(self.number(f"{where}[{i}]", c))
@@ -381,7 +395,7 @@ class _Reader:
             bwhere = f"{where}.boundary_conditions"
             bcs = t.get("boundary_conditions", {})
             if not isinstance(bcs, dict):
-                self.fail(bwhere, f"must be a table of bodies, not a {_type_name(bcs)}", bcs)
+                self.fail(bwhere, f"must be a table of bodies, not {_a(bcs)}", bcs)
             changes = {}
             for name, regions in bcs.items():
                 if name not in names:
@@ -467,6 +481,8 @@ class _Reader:
             etype = self.value(f"{where}.element_type", t["element_type"],
                                schema.MESH.key("element_type"))
         full = self.base / name
+        if full.is_dir():
+            self.fail(fwhere, f"is a directory ({full}), not a mesh file", name)
         if not full.is_file():
             self.fail(fwhere, f"no such mesh file ({full})", name,
                       "mesh files are relative to the problem file's directory")
@@ -502,6 +518,15 @@ class _Reader:
         if f["coarse_size"] < f["fine_size"]:
             self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
                       t["coarse_size"])
+        # a cheap upper bound of the element count: the whole body at fine_size
+        extent = (
+            2.0 * f["radius"] + f["height"] if source in ("cap", "punch")
+            else max(b - a for a, b in zip(f["lower"], f["upper"]))
+        )
+        estimate = 12.0 * (extent / f["fine_size"]) ** 2
+        if estimate > 100 * MAX_ELEMENTS:
+            self.fail(f"{where}.fine_size", f"is too small for a body of size {extent:g} (about "
+                      f"{estimate:.3g} elements)", t["fine_size"])
         if source == "cap":
             if not f["height"] < 2 * f["radius"]:
                 self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",
@@ -533,7 +558,7 @@ class _Reader:
         self, where: str, value: Any, mesh: SurfaceMesh, contact_surface: str, contact_where: str
     ) -> dict[str, list]:
         if not isinstance(value, dict):
-            self.fail(where, f"must be a table of regions, not a {_type_name(value)}", value)
+            self.fail(where, f"must be a table of regions, not {_a(value)}", value)
         out: dict[str, list] = {}
         for region, spec in value.items():
             rwhere = f"{where}.{region}"
@@ -622,6 +647,12 @@ class _Reader:
         except BemcontactError as exc:  # pragma: no cover - checked above
             self.wrap("contact", exc, value)
         return (order[0], order[1]), (surfaces[0], surfaces[1]), pair, f.get("penalty")
+
+
+def _a(value: Any) -> str:
+    """'a string', 'an integer', ...: the type of ``value`` with its article."""
+    name = _type_name(value)
+    return f"{'an' if name[0] in 'aeiou' else 'a'} {name}"
 
 
 def _type_name(value: Any) -> str:

@@ -26,6 +26,12 @@ from typing import Any
 
 #: Value that marks "no default" (the key is required or has a computed default).
 NO_DEFAULT = object()
+#: Every number must be 0 or of a magnitude in [SMALLEST, LARGEST] (beyond,
+#: products of coordinates, moduli and displacements overflow or underflow).
+SMALLEST = 1e-100
+LARGEST = 1e100
+#: Most OpenMP threads accepted.
+MAX_THREADS = 4096
 
 
 @dataclass(frozen=True)
@@ -271,7 +277,7 @@ SOLVER = Key(
             "residual before returning to the best point (0: monotone line search)", default=5,
             lo=0),
         Key("threads", "integer", "OpenMP threads (the command line's `--threads` overrides "
-            "it)", lo=1, default_text="all cores, or OMP_NUM_THREADS"),
+            "it)", lo=1, hi=MAX_THREADS, default_text="all cores, or OMP_NUM_THREADS"),
     ),
 )
 
@@ -402,7 +408,8 @@ def reference_markdown() -> str:
         "",
         "Every key a problem file may hold. Unknown keys are errors (with a suggestion when",
         "one is close); integers are accepted where a number is expected, not the reverse;",
-        "booleans are never numbers; `nan` and `inf` are rejected. Units are those of the",
+        "booleans are never numbers; `nan` and `inf` are rejected, and so is any number other",
+        f"than 0 whose magnitude is outside {SMALLEST:g} to {LARGEST:g}. Units are those of the",
         "problem's one consistent set (docs/theory.md). The narrative guide, with examples,",
         "is [Problem files and the command line](problem-file.md).",
         "",

@@ -27,6 +27,7 @@ from .body import BodySolution, ElasticBody
 from .operators import assemble_system
 from .errors import ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
+from .schema import MAX_THREADS
 from .progress import ProgressEvent, Reporter, Stopwatch, print_lines
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
 
@@ -173,9 +174,13 @@ class SolverOptions:
         if isinstance(v, bool) or not isinstance(v, int) or v < 0:
             raise ConfigError(f"SolverOptions.watchdog must be an integer >= 0, got {v!r}")
         if self.threads is not None and (
-            isinstance(self.threads, bool) or not isinstance(self.threads, int) or self.threads < 1
+            isinstance(self.threads, bool) or not isinstance(self.threads, int)
+            or not 1 <= self.threads <= MAX_THREADS
         ):
-            raise ConfigError(f"SolverOptions.threads must be None or >= 1, got {self.threads!r}")
+            raise ConfigError(
+                f"SolverOptions.threads must be None or in [1, {MAX_THREADS}], got "
+                f"{self.threads!r}"
+            )
 
 
 # --------------------------------------------------------------------------- condensation

@@ -206,7 +206,7 @@ BAD = {
         "max_iterations = 30", "max_iterations = 30.0", "solver.max_iterations", "30.0",
         "write 30"),
     "negative watchdog": ("max_iterations = 30", "watchdog = -1", "solver.watchdog", "-1", ">= 0"),
-    "zero threads": ("max_iterations = 30", "threads = 0", "solver.threads", "0", ">= 1"),
+    "zero threads": ("max_iterations = 30", "threads = 0", "solver.threads", "0", "must be in [1, 4096]"),
     "E <= 0": (
         "youngs_modulus = 2e4", "youngs_modulus = 0", "body[1].material.youngs_modulus", "0",
         "must be > 0"),
