@@ -403,7 +403,7 @@ class SurfaceMesh:
                 regions = sorted({self.region_names[r] for r in self.element_region[c]})
                 raise MeshError(
                     f"{where}inverted orientation: the {what} made of regions {regions} has "
-                    f"normals pointing {'in' if want_positive else 'out'}to the solid (signed "
+                    f"normals pointing into the solid (signed "
                     f"volume {v:.6g}); reverse its elements' node order (SurfaceMesh.oriented() "
                     "does this for whole shells)"
                 )
