@@ -117,11 +117,31 @@ def summary(
             f"summary: expected a ContactResult or a dict, got {type(result).__name__}"
         )
     s["version"] = __version__
+    s["versions"] = _versions()
     if problem_echo is not None:
         s["problem"] = dict(problem_echo)
     if error is not None:
         s["error"] = error
     return _json_ready(s)
+
+
+def _versions() -> dict[str, str]:
+    """Versions of bemcontact, Python and the numerical libraries."""
+    import platform
+
+    import scipy
+
+    from . import __version__
+
+    out = {"bemcontact": __version__, "python": platform.python_version(),
+           "numpy": np.__version__, "scipy": scipy.__version__}
+    try:
+        import meshio
+
+        out["meshio"] = meshio.__version__
+    except (ImportError, AttributeError):  # pragma: no cover - meshio is a dependency
+        pass
+    return out
 
 
 def write_results(

@@ -66,6 +66,11 @@ def test_summary_json(written, result):
     assert s["newton_iterations"] == result.newton_iterations
     assert s["names"] == ["lower", "upper"]
     assert s["version"] == bc.__version__
+    import platform
+
+    assert s["versions"]["bemcontact"] == bc.__version__
+    assert s["versions"]["numpy"] == np.__version__
+    assert s["versions"]["python"] == platform.python_version()
     assert s["problem"] == {"file": "p.toml", "title": "t"}
     assert s["states"]["upper"] == result.interfaces[1].counts()
 
