@@ -757,6 +757,37 @@ void HMatrix::entries(const int64_t* rows, int64_t nr, const int64_t* cols, int6
   }
 }
 
+void HMatrix::g_columns(const int64_t* cols, int64_t nc, double* out, int threads) const {
+  std::vector<int64_t> where(3 * n_, -1);  // original dof -> output column
+  std::vector<int64_t> elems;
+  for (int64_t b = 0; b < nc; ++b) {
+    where[cols[b]] = b;
+    const int64_t j = cols[b] / 3;
+    elems.insert(elems.end(), n2e_.begin() + n2e_ptr_[j], n2e_.begin() + n2e_ptr_[j + 1]);
+  }
+  std::sort(elems.begin(), elems.end());
+  elems.erase(std::unique(elems.begin(), elems.end()), elems.end());
+  std::fill(out, out + 3 * n_ * nc, 0.0);
+#pragma omp parallel for schedule(dynamic, 16) num_threads(std::max(threads, 1))
+  for (int64_t p = 0; p < n_; ++p) {
+    const double* x = pts_.data() + 3 * p;
+    const int64_t i = perm_[p];
+    double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
+    for (int64_t ie : elems) {
+      const Element& e = els_[ie];
+      const int ld = 3 * e.n;
+      std::fill(Ge, Ge + 3 * ld, 0.0);
+      element_influence(e, x, local_index(e, i), K_, q_, false, true, He, Ge);
+      for (int k = 0; k < e.n; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const int64_t col = where[3 * e.f[k] + c];
+          if (col < 0) continue;
+          for (int r = 0; r < 3; ++r) out[(3 * i + r) * nc + col] += Ge[r * ld + 3 * k + c];
+        }
+    }
+  }
+}
+
 int64_t HMatrix::stored_doubles() const {
   int64_t s = 0;
   for (const HBlock& b : blocks_) s += b.A.size() + b.U.size() + b.V.size();

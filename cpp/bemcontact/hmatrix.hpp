@@ -74,6 +74,11 @@ class HMatrix {
   void entries(const int64_t* rows, int64_t nr, const int64_t* cols, int64_t nc, double* out_h,
                double* out_g) const;
 
+  // columns `cols` (original dof indices, nc of them) of G over all rows, by
+  // element integrals: out is 3N x nc, row-major, original row order.  Each
+  // element touching a requested column is integrated once per row.
+  void g_columns(const int64_t* cols, int64_t nc, double* out, int threads) const;
+
   const std::vector<HCluster>& clusters() const { return clusters_; }
   const std::vector<HBlock>& blocks() const { return blocks_; }
   const std::vector<int64_t>& perm() const { return perm_; }  // permuted -> original node

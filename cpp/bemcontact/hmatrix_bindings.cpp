@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "bind_common.hpp"
+#include "hlu.hpp"
 #include "hmatrix.hpp"
 
 namespace nb = nanobind;
@@ -29,6 +30,14 @@ nb::ndarray<nb::numpy, T> owned_copy(const T* src, std::initializer_list<size_t>
 
 }  // namespace
 
+void* capsule_pointer(nb::handle cap) {
+  PyObject* o = cap.ptr();
+  if (!PyCapsule_CheckExact(o)) throw nb::type_error("expected a capsule");
+  void* p = PyCapsule_GetPointer(o, PyCapsule_GetName(o));
+  if (!p) throw nb::python_error();
+  return p;
+}
+
 void bind_hmatrix(nb::module_& mod) {
   nb::class_<HParams>(mod, "HParams")
       .def(nb::init<>())
@@ -42,20 +51,27 @@ void bind_hmatrix(nb::module_& mod) {
       .def(
           "__init__",
           [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd) {
-            auto ptr = [](nb::handle cap) {
-              PyObject* o = cap.ptr();
-              if (!PyCapsule_CheckExact(o)) throw nb::type_error("expected a capsule");
-              void* p = PyCapsule_GetPointer(o, PyCapsule_GetName(o));
-              if (!p) throw nb::python_error();
-              return p;
-            };
             new (self) Lapack();
-            self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(ptr(dgeqrf));
-            self->dormqr = reinterpret_cast<decltype(self->dormqr)>(ptr(dormqr));
-            self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(ptr(dgesvd));
+            self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(capsule_pointer(dgeqrf));
+            self->dormqr = reinterpret_cast<decltype(self->dormqr)>(capsule_pointer(dormqr));
+            self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(capsule_pointer(dgesvd));
           },
           nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"),
           "LAPACK routines from scipy.linalg.cython_lapack.__pyx_capi__ capsules.");
+
+  nb::class_<Blas>(mod, "Blas")
+      .def(
+          "__init__",
+          [](Blas* self, nb::handle dgemm, nb::handle dtrsm, nb::handle dgetrf,
+             nb::handle dlaswp) {
+            new (self) Blas();
+            self->dgemm = reinterpret_cast<decltype(self->dgemm)>(capsule_pointer(dgemm));
+            self->dtrsm = reinterpret_cast<decltype(self->dtrsm)>(capsule_pointer(dtrsm));
+            self->dgetrf = reinterpret_cast<decltype(self->dgetrf)>(capsule_pointer(dgetrf));
+            self->dlaswp = reinterpret_cast<decltype(self->dlaswp)>(capsule_pointer(dlaswp));
+          },
+          nb::arg("dgemm"), nb::arg("dtrsm"), nb::arg("dgetrf"), nb::arg("dlaswp"),
+          "BLAS (cython_blas) and LAPACK (cython_lapack) routines for the H-LU.");
 
   nb::class_<HMatrix>(mod, "HMatrix")
       .def(
@@ -152,6 +168,24 @@ void bind_hmatrix(nb::module_& mod) {
       .def("perm",
            [](const HMatrix& h) { return owned_copy(h.perm().data(), {h.perm().size()}); })
       .def(
+          "g_columns",
+          [](const HMatrix& h, CInt64_1 cols, int threads) {
+            const size_t nc = cols.shape(0), n3 = 3 * static_cast<size_t>(h.n_points());
+            for (size_t b = 0; b < nc; ++b)
+              if (cols.data()[b] < 0 || static_cast<size_t>(cols.data()[b]) >= n3)
+                throw nb::index_error("g_columns: dof index out of range");
+            double* data = new double[n3 * nc > 0 ? n3 * nc : 1];
+            nb::capsule owner(data, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+            {
+              nb::gil_scoped_release release;
+              h.g_columns(cols.data(), static_cast<int64_t>(nc), data, threads);
+            }
+            size_t shape[2] = {n3, nc};
+            return NpArray(data, 2, shape, owner);
+          },
+          nb::arg("cols"), nb::arg("threads"),
+          "Columns cols of G over all rows (3N x nc), from the element integrals.")
+      .def(
           "diagonal_blocks",
           [](const HMatrix& h) {
             // dense diagonal leaves of A: list of (original nodes, A block)
@@ -167,4 +201,36 @@ void bind_hmatrix(nb::module_& mod) {
             return out;
           },
           "The dense diagonal leaf blocks of A: [(nodes (s,), A (3s x 3s))].");
+
+  nb::class_<HLU>(mod, "HLU")
+      .def(
+          "__init__",
+          [](HLU* self, const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
+             CDouble2 U, CDouble2 V) {
+            const size_t n3 = 3 * static_cast<size_t>(h.n_points());
+            if (U.shape(0) != n3 || V.shape(0) != n3 || U.shape(1) != V.shape(1))
+              throw nb::value_error("HLU: U and V must both be 3N x r");
+            const double* pu = U.data();
+            const double* pv = V.data();
+            const int64_t r = static_cast<int64_t>(U.shape(1));
+            nb::gil_scoped_release release;
+            new (self) HLU(h, lapack, blas, eps, pu, pv, r);
+          },
+          nb::arg("hmatrix"), nb::arg("lapack"), nb::arg("blas"), nb::arg("eps"), nb::arg("U"),
+          nb::arg("V"),
+          "H-LU factorization of the H-matrix's A + U V^T, low-rank sums truncated to eps.")
+      .def(
+          "solve",
+          [](const HLU& f, Double2 b) {
+            if (b.shape(0) != static_cast<size_t>(f.n_dofs()))
+              throw nb::value_error("solve: b must have 3N rows");
+            double* pb = b.data();
+            const int64_t k = static_cast<int64_t>(b.shape(1));
+            nb::gil_scoped_release release;
+            f.solve(pb, k);
+          },
+          nb::arg("b"), "Solve A X = B in place (B: 3N x k, row-major, original dof order).")
+      .def_prop_ro("stored_doubles", &HLU::stored_doubles)
+      .def_prop_ro("factor_seconds", &HLU::factor_seconds)
+      .def_prop_ro("max_rank", &HLU::max_rank);
 }

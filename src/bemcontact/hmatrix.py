@@ -107,6 +107,60 @@ def _lapack():
     return _core().Lapack(caps["dgeqrf"], caps["dormqr"], caps["dgesvd"])
 
 
+def _blas():
+    from scipy.linalg import cython_blas, cython_lapack
+
+    b, lp = cython_blas.__pyx_capi__, cython_lapack.__pyx_capi__
+    return _core().Blas(b["dgemm"], b["dtrsm"], lp["dgetrf"], lp["dlaswp"])
+
+
+class HFactor:
+    """H-LU factorization of a :class:`CompressedSystem`'s A (wraps the
+    compiled ``HLU``): A ≈ P L U in hierarchical-matrix arithmetic, every
+    low-rank sum truncated to the relative accuracy ``eps``; :meth:`solve`
+    solves A X = B for many right-hand sides at once.  With ``update = (U,
+    V)`` (each (3N, r)) it factors A + U Vᵀ instead (a floating body's A is
+    singular; the bordered solve uses such an update)."""
+
+    def __init__(self, system: CompressedSystem, eps: float | None = None,
+                 update: tuple[np.ndarray, np.ndarray] | None = None) -> None:
+        self.eps = system.options.eps if eps is None else float(eps)
+        if not (0.0 < self.eps < 1.0):
+            raise ConfigError(f"HFactor: eps must be in (0, 1), got {eps!r}")
+        self.n = system.n
+        if update is None:
+            U = V = np.zeros((self.n, 0))
+        else:
+            U, V = (np.ascontiguousarray(np.asarray(a, dtype=float).reshape(self.n, -1))
+                    for a in update)
+        # thousands of small BLAS calls: OpenBLAS's own threads only add
+        # synchronization (70 % of the time in its thread server, measured)
+        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
+            self._f = _core().HLU(system._h, _lapack(), _blas(), self.eps, U, V)
+
+    @property
+    def factor_seconds(self) -> float:
+        return float(self._f.factor_seconds)
+
+    @property
+    def stored_bytes(self) -> int:
+        return 8 * int(self._f.stored_doubles)
+
+    @property
+    def max_rank(self) -> int:
+        return int(self._f.max_rank)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        """A⁻¹ b for b (3N,) or (3N, k); returns a new array."""
+        b = np.asarray(b, dtype=float)
+        if b.shape[:1] != (self.n,) or b.ndim not in (1, 2):
+            raise ConfigError(f"solve: expected shape ({self.n},) or ({self.n}, k), got {b.shape}")
+        x = np.array(b.reshape(self.n, -1), dtype=float, order="C", copy=True)
+        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
+            self._f.solve(x)
+        return x.reshape(b.shape)
+
+
 class CompressedSystem:
     """A body's mixed system matrix A in H-matrix form (wraps the compiled
     ``HMatrix``).
@@ -266,6 +320,19 @@ class CompressedSystem:
             rows = (3 * pick[:, None] + np.arange(3)).ravel()
             r = r + border[rows] @ x[self.n :]
         return float(np.linalg.norm(r) / max(np.linalg.norm(b), 1e-300))
+
+    def g_columns(self, cols) -> np.ndarray:
+        """Columns ``cols`` (dof indices) of G over all rows, (3N, len(cols)),
+        from the element integrals (OpenMP)."""
+        c = np.ascontiguousarray(cols, dtype=np.int64)
+        if c.ndim != 1 or (c.size and (c.min() < 0 or c.max() >= self.n)):
+            raise ConfigError(f"g_columns: cols must be dof indices in 0..{self.n - 1}")
+        return self._h.g_columns(c, self.threads)
+
+    def factor(self, eps: float | None = None, update=None) -> HFactor:
+        """H-LU factorization of A (or A + U Vᵀ, ``update = (U, V)``):
+        :class:`HFactor`, truncated to ``eps`` (default: ``options.eps``)."""
+        return HFactor(self, eps, update)
 
     def diagonal_blocks(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """The dense diagonal leaves of A: [(nodes (s,), A (3s, 3s))]."""

@@ -50,6 +50,7 @@ from typing import Any, NoReturn
 from . import schema
 from .body import Displacement, ElasticBody, Force, Pressure, Traction
 from .errors import BemcontactError, ConfigError
+from .hmatrix import HMatrixOptions, LinearSolverOptions
 from .io import OutputOptions, require_matplotlib
 from .material import LinearElastic
 from .mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
@@ -428,7 +429,11 @@ class _Reader:
         key = schema.SOLVER
         t = self.table("solver", value, key)
         kwargs: dict[str, Any] = {}
+        if "linear" in t:
+            kwargs["linear"] = self.linear(t["linear"])
         for name, given in t.items():
+            if name == "linear":
+                continue
             where = f"solver.{name}"
             v = self.value(where, given, key.key(name))
             try:  # the ranges are SolverOptions' own; the schema repeats them for the docs
@@ -440,6 +445,12 @@ class _Reader:
                 self.fail(where, text, given)
             kwargs[name] = v
         return SolverOptions(**kwargs)
+
+    def linear(self, value: Any) -> LinearSolverOptions:
+        key = schema.LINEAR
+        f = self.fields("solver.linear", self.table("solver.linear", value, key), key)
+        h = HMatrixOptions(eps=f.pop("eps"), eta=f.pop("eta"), leaf_size=f.pop("leaf_size"))
+        return LinearSolverOptions(hmatrix=h, **f)
 
     def body_name(self, i: int, b: dict) -> str:
         where = f"body[{i}]"

@@ -125,6 +125,9 @@ class ContactResult:
     label: the label of the load step this result ends.
     history: the results at the end of every load step (the last is this
         one's state); a one-step solve holds just this result.
+    linear: body name -> how its system was solved (``method`` "dense" or
+        "hmatrix"; for compressed operators also sizes in MB, seconds, the
+        H-LU residual and the sampled exact residual).
     """
 
     converged: bool
@@ -141,6 +144,7 @@ class ContactResult:
     control_displacements: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
     label: str = ""
     history: list = field(default_factory=list)
+    linear: dict = field(default_factory=dict)
 
     def reactions(self) -> dict[str, dict[str, np.ndarray]]:
         """Body name -> region -> resultant force (3,) the surroundings
@@ -187,6 +191,7 @@ class ContactResult:
                 for h in self.history
             ],
             "timings": {k: float(v) for k, v in self.timings.items()},
+            "linear": self.linear,
         }
 
 

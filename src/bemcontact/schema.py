@@ -257,6 +257,32 @@ CONTACT = Key(
     ),
 )
 
+LINEAR = Key(
+    "linear", "table", "how each body's BEM system is stored and solved (the fields of "
+    "`bemcontact.LinearSolverOptions` and its `HMatrixOptions`)", default={},
+    section="solver.linear",
+    notes="Compressed operators (H-matrices built by adaptive cross approximation, "
+    "factored by an H-LU) need memory and time close to linear in the number of nodes; "
+    "the dense path is faster below a few thousand nodes per body (docs/benchmarks.md).",
+    keys=(
+        Key("method", "string", "`dense`: LAPACK LU; `hmatrix`: compressed operators; `auto`: "
+            "dense up to `dense_max_nodes` nodes per body", default="auto",
+            choices=("auto", "dense", "hmatrix")),
+        Key("dense_max_nodes", "integer", "the `auto` threshold (functional nodes per body)",
+            default=6000, lo=1),
+        Key("eps", "number", "relative accuracy of each compressed block and of the H-LU",
+            default=1e-6, lo=0, lo_open=True, hi=1, hi_open=True),
+        Key("eta", "number", "admissibility parameter: a block is compressed when "
+            "min(diameters) <= eta × distance", default=3.0, lo=0, lo_open=True),
+        Key("leaf_size", "integer", "nodes per leaf cluster (at most)", default=48, lo=1),
+        Key("accuracy", "number", "relative residual the solution must reach in the exact "
+            "system (sampled); above it an AccuracyWarning asks for a smaller eps",
+            default=1e-6, lo=0, lo_open=True, hi=1, hi_open=True),
+        Key("check_nodes", "integer", "nodes sampled for that check (0: none)", default=20,
+            lo=0),
+    ),
+)
+
 SOLVER = Key(
     "solver", "table", "Newton settings (the fields of `bemcontact.SolverOptions`)",
     default={}, section="solver",
@@ -278,6 +304,7 @@ SOLVER = Key(
             lo=0),
         Key("threads", "integer", "OpenMP threads (the command line's `--threads` overrides "
             "it)", lo=1, hi=MAX_THREADS, default_text="all cores, or OMP_NUM_THREADS"),
+        LINEAR,
     ),
 )
 

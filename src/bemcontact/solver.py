@@ -24,6 +24,8 @@ import scipy.linalg
 
 from . import law
 from .body import BodySolution, ElasticBody
+from .errors import AccuracyWarning
+from .hmatrix import CompressedSystem, LinearSolverOptions
 from .operators import assemble_system
 from .errors import ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
@@ -140,6 +142,10 @@ class SolverOptions:
         tiny steps (tens of iterations instead of a handful).
     threads:
         OpenMP threads for assembly (default: all).
+    linear:
+        How each body's BEM system is stored and solved for the condensation:
+        dense LAPACK LU, or compressed operators (H-matrix, H-LU); default
+        ``"auto"``: dense up to ``linear.dense_max_nodes`` nodes per body.
     progress:
         Print the stages, load increments and Newton iterations on stderr
         (:func:`bemcontact.progress.print_lines`; ``ContactProblem.solve``
@@ -155,8 +161,13 @@ class SolverOptions:
     watchdog: int = 5
     threads: int | None = None
     progress: bool = False
+    linear: LinearSolverOptions = LinearSolverOptions()
 
     def __post_init__(self) -> None:
+        if not isinstance(self.linear, LinearSolverOptions):
+            raise ConfigError(
+                f"SolverOptions.linear must be LinearSolverOptions, got {self.linear!r}"
+            )
         def num(name, lo, hi):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (lo < v < hi):
@@ -184,6 +195,66 @@ class SolverOptions:
 
 
 # --------------------------------------------------------------------------- condensation
+
+
+def _solve_compressed(cs: CompressedSystem, rhs: np.ndarray, Rf: np.ndarray, C: np.ndarray,
+                      W: np.ndarray, S: int, dofs: np.ndarray, lin: LinearSolverOptions,
+                      name: str):
+    """X = A⁻¹ rhs on the compressed A by its H-LU, for a floating body
+    bordered by the free modes Rf with the equilibrium rows C (A + Rf C is
+    factored: x = y - z alpha with alpha = (C z)⁻¹ C y, the bordered system's
+    solution), then one step of iterative refinement with the compressed
+    product (the H-LU truncations leave a residual of ~100 eps; one step
+    brings it to ~1e-11, measured).  rhs = [B W[:, :S], G[:, dofs],
+    B W[:, S:]].  The exact system's residual of every column is sampled at
+    ``lin.check_nodes`` nodes (rows from the element integrals) and an
+    :class:`AccuracyWarning` is given above ``lin.accuracy``."""
+    t0 = time.perf_counter()
+    nf = Rf.shape[1]
+    F = cs.factor(update=(Rf, C.T) if nf else None)
+    t1 = time.perf_counter()
+
+    z = F.solve(Rf) if nf else None
+    Cz = C @ z if nf else None
+
+    def bordered(b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(x, alpha) with (A + Rf C) y = b, x = y - z alpha, C x = 0."""
+        y = F.solve(b)
+        if not nf:
+            return y, np.zeros((0, b.shape[1]))
+        alpha = np.linalg.solve(Cz, C @ y)
+        return y - z @ alpha, alpha
+
+    X, alpha = bordered(rhs)
+    r = rhs - cs.matvec(X) - Rf @ alpha
+    first = float(np.linalg.norm(r) / max(np.linalg.norm(rhs), 1e-300))
+    dX, dalpha = bordered(r)
+    X += dX
+    alpha += dalpha
+    t2 = time.perf_counter()
+    check = 0.0
+    if lin.check_nodes > 0:
+        rng = np.random.default_rng(0)
+        pick = np.sort(rng.choice(cs.n_points, min(lin.check_nodes, cs.n_points), replace=False))
+        rows = (3 * pick[:, None] + np.arange(3)).ravel()
+        As, Bs = cs.exact_rows(pick)
+        b = np.column_stack([Bs @ W[:, :S], Bs[:, dofs], Bs @ W[:, S:]])
+        res = As @ X + Rf[rows] @ alpha - b
+        check = float(np.linalg.norm(res) / max(np.linalg.norm(b), 1e-300))
+    if check > lin.accuracy:
+        warnings.warn(
+            f"{name}: compressed operators with eps = {cs.options.eps:g}: the exact system's "
+            f"residual is {check:.2e} (sampled at {lin.check_nodes} nodes), above the requested "
+            f"accuracy {lin.accuracy:g}; use a smaller HMatrixOptions.eps",
+            AccuracyWarning, stacklevel=3,
+        )
+    info = {
+        "method": "hmatrix", "compressed_mb": cs.stored_bytes / 1e6,
+        "factor_mb": F.stored_bytes / 1e6, "dense_mb": cs.dense_bytes / 1e6,
+        "build_s": cs.build_seconds, "factor_s": t1 - t0, "solve_s": t2 - t1,
+        "lu_residual": first, "exact_residual": check, "max_rank": F.max_rank,
+    }
+    return X, info
 
 
 @dataclass
@@ -217,6 +288,7 @@ class CondensedBody:
     C: np.ndarray  # (nc, n) resultant rows of the controlled components
     forces: np.ndarray  # (nc, S) prescribed resultants per state
     timings: dict
+    solver: dict = field(default_factory=dict)  # linear solver used, sizes and residuals
 
     @property
     def F(self) -> np.ndarray:
@@ -237,7 +309,7 @@ class CondensedBody:
 
 def condense(
     body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
-    progress: Reporter | None = None,
+    progress: Reporter | None = None, linear: LinearSolverOptions | None = None,
 ) -> CondensedBody:
     """Assemble the body's BEM system once, factor it, and solve for the
     response to unit tractions at each contact dof (``nodes``: the contact
@@ -246,7 +318,9 @@ def condense(
     the same kind per dof; default: the body's own) and to unit platen
     translations of the force-controlled components.  ``progress`` receives
     the start and end events of the ``assembly`` and ``condensation`` stages
-    (:mod:`bemcontact.progress`)."""
+    (:mod:`bemcontact.progress`).  ``linear`` chooses dense operators (LAPACK
+    LU) or compressed ones (H-matrix, H-LU with one step of iterative
+    refinement; :class:`~bemcontact.hmatrix.LinearSolverOptions`)."""
     d = body.discretization
     t0 = time.perf_counter()
     what = f"{body.name}: {d.n_points:,} nodes, {nodes.size:,} on the contact surface"
@@ -280,24 +354,39 @@ def condense(
     # -Hc for the platens, the contact columns of B = G (traction-given dofs)
     S = len(states)
     m = body.material
-    A, BW, Gc = assemble_system(
-        d, m.shear_modulus, m.poisson_ratio, known_u,
-        np.column_stack([values, body.control_indicators(controls)]), dofs, body.quadrature,
-        threads, border=nf,
-    )
-    t1 = time.perf_counter()
-    if progress is not None:
-        progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
-        progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
     n = 3 * d.n_points
-    rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
-    if nf:
-        A[:n, n:] = Rf
-        A[n:, :n] = (Rf * np.repeat(d.weights, 3)[:, None]).T
-        rhs = np.vstack([rhs, np.zeros((nf, rhs.shape[1]))])
-    sol = body._lu_solve(A, rhs)
-    del A
-    S = len(states)
+    lin = linear or LinearSolverOptions()
+    W = np.column_stack([values, body.control_indicators(controls)])
+    C = (Rf * np.repeat(d.weights, 3)[:, None]).T  # equilibrium rows of the free modes
+    solver_info: dict[str, Any] = {"method": "dense"}
+    if lin.use_hmatrix(d.n_points):
+        cs = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, known_u, W, body.quadrature,
+                              lin.hmatrix, threads)
+        BW = cs.BW
+        Gc = cs.g_columns(dofs)
+        t1 = time.perf_counter()
+        if progress is not None:
+            progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
+            progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
+        rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
+        del Gc
+        sol, solver_info = _solve_compressed(cs, rhs, Rf, C, W, S, dofs, lin, body.name)
+    else:
+        A, BW, Gc = assemble_system(
+            d, m.shear_modulus, m.poisson_ratio, known_u, W, dofs, body.quadrature, threads,
+            border=nf,
+        )
+        t1 = time.perf_counter()
+        if progress is not None:
+            progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
+            progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
+        rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
+        if nf:
+            A[:n, n:] = Rf
+            A[n:, :n] = C
+            rhs = np.vstack([rhs, np.zeros((nf, rhs.shape[1]))])
+        sol = body._lu_solve(A, rhs)
+        del A
     x0 = np.ascontiguousarray(sol[:n, :S])
     X = np.ascontiguousarray(sol[:n, S : S + dofs.size])
     Y = np.ascontiguousarray(sol[:n, S + dofs.size :])
@@ -318,7 +407,7 @@ def condense(
     return CondensedBody(
         body, nodes, dofs, known_u, values, x0, X, Rf, modal, controls, Y,
         body.control_rows(controls), forces,
-        {"assembly": t1 - t0, "condensation": t2 - t1},
+        {"assembly": t1 - t0, "condensation": t2 - t1}, solver_info,
     )
 
 
@@ -515,7 +604,7 @@ class ContactProblem:
             frame = self.frame
         t1 = time.perf_counter()
         cb = tuple(
-            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report)
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report, opt.linear)
             for a, b in enumerate(self.bodies)
         )
         t2 = time.perf_counter()
@@ -568,6 +657,7 @@ class ContactProblem:
         result = system.result(z, ell, k_start, records, self.bodies)
         result.label = steps[len(history) if failed else -1].label
         result.history = history if S > 1 else [result]
+        result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}
         result.timings = {
             "frame": t1 - t0,
             "assembly": sum(c.timings["assembly"] for c in cb),

@@ -52,6 +52,8 @@ def test_solver_keys_ranges_and_defaults_are_solver_options_own():
     fields = {f.name: f for f in dataclasses.fields(bc.SolverOptions) if f.name != "progress"}
     assert schema.SOLVER.allowed == tuple(fields)
     for k in schema.SOLVER.keys:
+        if k.name == "linear":
+            continue
         if k.default is not schema.NO_DEFAULT:
             assert k.default == fields[k.name].default, k.name
         # the schema's bounds are the class's: just outside raises, just inside does not
@@ -65,6 +67,27 @@ def test_solver_keys_ranges_and_defaults_are_solver_options_own():
             bc.SolverOptions(**{k.name: inside})
             with pytest.raises(bc.ConfigError):
                 bc.SolverOptions(**{k.name: outside})
+
+
+def test_linear_defaults_are_linear_solver_options_own():
+    from bemcontact.hmatrix import HMatrixOptions, LinearSolverOptions
+
+    lin, h = LinearSolverOptions(), HMatrixOptions()
+    for k in schema.LINEAR.keys:
+        owner = h if k.name in ("eps", "eta", "leaf_size") else lin
+        assert getattr(owner, k.name) == k.default, k.name
+
+
+def test_solver_linear_table(tmp_path):
+    text = edit(BASE, "max_iterations = 30",
+                'max_iterations = 30\nlinear = { method = "hmatrix", eps = 1e-8, leaf_size = 16 }')
+    p = load_problem(write(tmp_path, text), check_overlap=False)
+    assert p.options.linear.method == "hmatrix"
+    assert p.options.linear.hmatrix.eps == 1e-8 and p.options.linear.hmatrix.leaf_size == 16
+    bad = edit(BASE, "max_iterations = 30", 'max_iterations = 30\nlinear = { methd = "dense" }')
+    path = write(tmp_path, bad)
+    with pytest.raises(bc.ConfigError, match=r"solver\.linear\.methd: unknown key.*'method'"):
+        load_problem(path, check_overlap=False)
 
 
 def test_output_defaults_are_output_options_own():
