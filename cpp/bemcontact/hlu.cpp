@@ -5,12 +5,39 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <stdexcept>
 #include <unordered_map>
 
 namespace bemcontact {
 
 // ------------------------------------------------------------------ low rank
+
+namespace {
+// SVD of the k x k column-major matrix a (destroyed): a = W diag(s) Zt.
+void core_svd(double* a, int k, double* s, double* W, double* Zt, const Lapack& lapack) {
+  int info = 0, lw = -1;
+  double wq = 0.0;
+  if (lapack.dgesdd) {
+    char jobz = 'A';
+    std::vector<int> iwork(8 * static_cast<size_t>(k));
+    lapack.dgesdd(&jobz, &k, &k, a, &k, s, W, &k, Zt, &k, &wq, &lw, iwork.data(), &info);
+    lw = std::max(static_cast<int>(wq), 1);
+    std::vector<double> work(lw);
+    lapack.dgesdd(&jobz, &k, &k, a, &k, s, W, &k, Zt, &k, work.data(), &lw, iwork.data(), &info);
+    if (info == 0) return;
+    // dgesdd did not converge (rare): fall through to dgesvd on a fresh copy is not
+    // possible (a destroyed), so report it
+    throw std::runtime_error("H-LU: dgesdd failed");
+  }
+  char jobu = 'A', jobvt = 'A';
+  lapack.dgesvd(&jobu, &jobvt, &k, &k, a, &k, s, W, &k, Zt, &k, &wq, &lw, &info);
+  lw = std::max(static_cast<int>(wq), 1);
+  std::vector<double> work(lw);
+  lapack.dgesvd(&jobu, &jobvt, &k, &k, a, &k, s, W, &k, Zt, &k, work.data(), &lw, &info);
+  if (info) throw std::runtime_error("H-LU: dgesvd failed");
+}
+}  // namespace
 
 void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
                       int& k, double eps, const Lapack& lapack) {
@@ -76,15 +103,7 @@ void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m,
       core[j * k + i] = acc;
     }
   std::vector<double> sv(k), Wm(static_cast<size_t>(k) * k), Zt(static_cast<size_t>(k) * k);
-  char jobu = 'A', jobvt = 'A';
-  int lw = -1;
-  lapack.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
-                &wq, &lw, &info);
-  lw = std::max(static_cast<int>(wq), 1);
-  std::vector<double> work2(lw);
-  lapack.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
-                work2.data(), &lw, &info);
-  if (info) throw std::runtime_error("H-LU: dgesvd failed");
+  core_svd(core.data(), k, sv.data(), Wm.data(), Zt.data(), lapack);
   double total = 0.0;
   for (int i = 0; i < k; ++i) total += sv[i] * sv[i];
   int r = k;
@@ -154,6 +173,9 @@ struct HArith {
   const Lapack& lapack;
   const Blas& blas;
   double eps;
+
+  // blocks worth a task of their own (smaller ones run in the calling task)
+  static bool big(const HNode& a) { return a.m * a.n >= 300 * 300; }
 
   void gemm(char ta, char tb, int64_t m, int64_t n, int64_t k, double alpha, const double* a,
             int64_t lda, const double* b, int64_t ldb, double beta, double* c,
@@ -252,16 +274,19 @@ struct HArith {
       for (int64_t j = 0; j < c.n; ++j)
         for (int64_t i = 0; i < c.m; ++i) c.A[j * c.m + i] += alpha * P.p[j * P.ld + i];
     } else if (c.kind == kRk) {
-      // P as a low-rank product: P = P I, truncated
-      const int64_t r = std::min(c.m, c.n);
-      std::vector<double> U(c.m * c.n), V(c.n * c.n, 0.0);
-      for (int64_t j = 0; j < c.n; ++j)
-        for (int64_t i = 0; i < c.m; ++i) U[j * c.m + i] = P.p[j * P.ld + i];
-      for (int64_t j = 0; j < c.n; ++j) V[j * c.n + j] = 1.0;
-      int k = static_cast<int>(c.n);
-      (void)r;
-      truncate_lowrank(U, V, c.m, c.n, k, eps, lapack);
-      add_rk(c, U.data(), c.m, V.data(), c.n, k, alpha);
+      // c.U c.V^T + alpha P = [c.U, alpha P] [c.V, I]^T, truncated once
+      const int nk = c.k + static_cast<int>(c.n);
+      std::vector<double> nu(c.m * nk), nv(c.n * nk, 0.0);
+      std::copy(c.U.begin(), c.U.end(), nu.begin());
+      std::copy(c.V.begin(), c.V.end(), nv.begin());
+      for (int64_t j = 0; j < c.n; ++j) {
+        for (int64_t i = 0; i < c.m; ++i) nu[(c.k + j) * c.m + i] = alpha * P.p[j * P.ld + i];
+        nv[(c.k + j) * c.n + j] = 1.0;
+      }
+      c.U.swap(nu);
+      c.V.swap(nv);
+      c.k = nk;
+      truncate_lowrank(c.U, c.V, c.m, c.n, c.k, eps, lapack);
     } else {
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) {
@@ -366,9 +391,14 @@ struct HArith {
         gemm_node(c, a, b, alpha);
         merge(c);
       } else if (c.kind == kH) {
+        // the four target blocks are disjoint: one task each (large blocks)
+        const bool par = big(c);
         for (int i = 0; i < 2; ++i)
-          for (int j = 0; j < 2; ++j)
+          for (int j = 0; j < 2; ++j) {
+#pragma omp task if (par) default(shared) firstprivate(i, j)
             for (int l = 0; l < 2; ++l) gemm_node(c.c(i, j), a.c(i, l), b.c(l, j), alpha);
+          }
+#pragma omp taskwait
       } else {
         std::vector<double> Bd = dense(b), P(a.m * b.n, 0.0);
         mult(a, 'N', Mat{Bd.data(), b.m, b.n, b.m}, Mat{P.data(), a.m, b.n, a.m}, 1.0);
@@ -449,11 +479,16 @@ struct HArith {
       if (x.k) solve_lower(d, Mat{x.U.data(), x.m, x.k, x.m});
     } else {
       if (d.kind != kH) throw std::logic_error("H-LU: block structure mismatch (lower)");
-      for (int j = 0; j < 2; ++j) {
-        trsm_lower(d.c(0, 0), x.c(0, j));
-        gemm_node(x.c(1, j), d.c(1, 0), x.c(0, j), -1.0);
-        trsm_lower(d.c(1, 1), x.c(1, j));
+      const bool par = big(x);
+      for (int j = 0; j < 2; ++j) {  // the two block columns are independent
+#pragma omp task if (par) default(shared) firstprivate(j)
+        {
+          trsm_lower(d.c(0, 0), x.c(0, j));
+          gemm_node(x.c(1, j), d.c(1, 0), x.c(0, j), -1.0);
+          trsm_lower(d.c(1, 1), x.c(1, j));
+        }
       }
+#pragma omp taskwait
     }
   }
 
@@ -472,11 +507,16 @@ struct HArith {
         for (int64_t j = 0; j < x.n; ++j) x.V[l * x.n + j] = Vt[j * x.k + l];
     } else {
       if (d.kind != kH) throw std::logic_error("H-LU: block structure mismatch (upper)");
-      for (int i = 0; i < 2; ++i) {
-        trsm_upper_right(d.c(0, 0), x.c(i, 0));
-        gemm_node(x.c(i, 1), x.c(i, 0), d.c(0, 1), -1.0);
-        trsm_upper_right(d.c(1, 1), x.c(i, 1));
+      const bool par = big(x);
+      for (int i = 0; i < 2; ++i) {  // the two block rows are independent
+#pragma omp task if (par) default(shared) firstprivate(i)
+        {
+          trsm_upper_right(d.c(0, 0), x.c(i, 0));
+          gemm_node(x.c(i, 1), x.c(i, 0), d.c(0, 1), -1.0);
+          trsm_upper_right(d.c(1, 1), x.c(i, 1));
+        }
       }
+#pragma omp taskwait
     }
   }
 };
@@ -534,14 +574,18 @@ void HLU::lu(HNode& a) const {
   }
   if (a.kind != kH) throw std::logic_error("H-LU: a diagonal block is low rank");
   lu(a.c(0, 0));
+  const bool par = HArith::big(a.c(0, 1));
+#pragma omp task if (par) default(shared)
   ar.trsm_lower(a.c(0, 0), a.c(0, 1));
+#pragma omp task if (par) default(shared)
   ar.trsm_upper_right(a.c(0, 0), a.c(1, 0));
+#pragma omp taskwait
   ar.gemm_node(a.c(1, 1), a.c(1, 0), a.c(0, 1), -1.0);
   lu(a.c(1, 1));
 }
 
 HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
-         const double* U, const double* V, int64_t r)
+         const double* U, const double* V, int64_t r, int threads)
     : n_(h.n_points()), perm_(h.perm()), clusters_(h.clusters()), lapack_(lapack), blas_(blas),
       eps_(eps) {
   if (!lapack_.ok() || !blas_.ok()) throw std::invalid_argument("H-LU needs BLAS and LAPACK");
@@ -565,7 +609,18 @@ HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
     HArith ar{clusters_, lapack_, blas_, eps_};
     ar.add_rk(*root_, up.data(), n3, vp.data(), n3, static_cast<int>(r), 1.0);
   }
-  lu(*root_);
+  // exceptions must not leave an OpenMP region: keep the first and rethrow
+  std::exception_ptr error;
+#pragma omp parallel num_threads(std::max(threads, 1))
+#pragma omp single
+  {
+    try {
+      lu(*root_);
+    } catch (...) {
+      error = std::current_exception();
+    }
+  }
+  if (error) std::rethrow_exception(error);
   factor_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 

@@ -47,8 +47,9 @@ class HLU {
  public:
   // Factor A + U V^T (U, V: 3N x r, row-major, original dof order; r may be
   // 0): a low-rank update, e.g. to make a floating body's A nonsingular.
+  // OpenMP tasks on `threads` threads (independent blocks of the recursion).
   HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
-      const double* U = nullptr, const double* V = nullptr, int64_t r = 0);
+      const double* U = nullptr, const double* V = nullptr, int64_t r = 0, int threads = 1);
   ~HLU();
   // Solve A X = B in place; b is 3N x k, row-major, original dof order.
   void solve(double* b, int64_t k) const;

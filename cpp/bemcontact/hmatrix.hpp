@@ -34,6 +34,9 @@ struct Lapack {
                  double*, int*, int*) = nullptr;
   void (*dgesvd)(char*, char*, int*, int*, double*, int*, double*, double*, int*, double*,
                  int*, double*, int*, int*) = nullptr;
+  // optional (divide and conquer, faster than dgesvd for the small cores)
+  void (*dgesdd)(char*, int*, int*, double*, int*, double*, double*, int*, double*, int*,
+                 double*, int*, int*, int*) = nullptr;
   bool ok() const { return dgeqrf && dormqr && dgesvd; }
 };
 

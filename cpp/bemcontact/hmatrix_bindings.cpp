@@ -50,13 +50,16 @@ void bind_hmatrix(nb::module_& mod) {
   nb::class_<Lapack>(mod, "Lapack")
       .def(
           "__init__",
-          [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd) {
+          [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd,
+             nb::handle dgesdd) {
             new (self) Lapack();
             self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(capsule_pointer(dgeqrf));
             self->dormqr = reinterpret_cast<decltype(self->dormqr)>(capsule_pointer(dormqr));
             self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(capsule_pointer(dgesvd));
+            if (!dgesdd.is_none())
+              self->dgesdd = reinterpret_cast<decltype(self->dgesdd)>(capsule_pointer(dgesdd));
           },
-          nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"),
+          nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"), nb::arg("dgesdd").none() = nb::none(),
           "LAPACK routines from scipy.linalg.cython_lapack.__pyx_capi__ capsules.");
 
   nb::class_<Blas>(mod, "Blas")
@@ -206,7 +209,7 @@ void bind_hmatrix(nb::module_& mod) {
       .def(
           "__init__",
           [](HLU* self, const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
-             CDouble2 U, CDouble2 V) {
+             CDouble2 U, CDouble2 V, int threads) {
             const size_t n3 = 3 * static_cast<size_t>(h.n_points());
             if (U.shape(0) != n3 || V.shape(0) != n3 || U.shape(1) != V.shape(1))
               throw nb::value_error("HLU: U and V must both be 3N x r");
@@ -214,10 +217,10 @@ void bind_hmatrix(nb::module_& mod) {
             const double* pv = V.data();
             const int64_t r = static_cast<int64_t>(U.shape(1));
             nb::gil_scoped_release release;
-            new (self) HLU(h, lapack, blas, eps, pu, pv, r);
+            new (self) HLU(h, lapack, blas, eps, pu, pv, r, threads);
           },
           nb::arg("hmatrix"), nb::arg("lapack"), nb::arg("blas"), nb::arg("eps"), nb::arg("U"),
-          nb::arg("V"),
+          nb::arg("V"), nb::arg("threads") = 1,
           "H-LU factorization of the H-matrix's A + U V^T, low-rank sums truncated to eps.")
       .def(
           "solve",

@@ -104,7 +104,7 @@ def _lapack():
     from scipy.linalg import cython_lapack
 
     caps = cython_lapack.__pyx_capi__
-    return _core().Lapack(caps["dgeqrf"], caps["dormqr"], caps["dgesvd"])
+    return _core().Lapack(caps["dgeqrf"], caps["dormqr"], caps["dgesvd"], caps["dgesdd"])
 
 
 def _blas():
@@ -136,7 +136,8 @@ class HFactor:
         # thousands of small BLAS calls: OpenBLAS's own threads only add
         # synchronization (70 % of the time in its thread server, measured)
         with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
-            self._f = _core().HLU(system._h, _lapack(), _blas(), self.eps, U, V)
+            self._f = _core().HLU(system._h, _lapack(), _blas(), self.eps, U, V,
+                                  system.threads)
 
     @property
     def factor_seconds(self) -> float:
