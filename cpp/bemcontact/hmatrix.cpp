@@ -1,4 +1,5 @@
 #include "hmatrix.hpp"
+#include "hlu.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -595,67 +596,21 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
       if (ku[c]) b.V[l * nH + c] /= scale;
 }
 
-// U V^T -> (Qu Ru)(Qv Rv)^T = Qu (Ru Rv^T) Qv^T; SVD of the k x k core,
-// truncated where the discarded singular values' 2-norm is below eps times
-// the whole (Frobenius) norm.
+// Truncation of U V^T to the block's own accuracy (truncate_lowrank, hlu.cpp).
+// Called inside the OpenMP build: a LAPACK failure (never seen) keeps the
+// block as it is rather than letting an exception leave the parallel region.
 void HMatrix::recompress(HBlock& b, int64_t m, int64_t n) const {
+  if (!lapack_.ok() || b.rank <= 0) return;
+  std::vector<double> U = b.U, V = b.V;
   int k = b.rank;
-  if (!lapack_.ok() || k == 0 || k > m || k > n) return;
-  int im = static_cast<int>(m), in = static_cast<int>(n), info = 0;
-  std::vector<double> tu(k), tv(k), work(1);
-  int lwork = -1;
-  double wq = 0.0;
-  lapack_.dgeqrf(&im, &k, b.U.data(), &im, tu.data(), &wq, &lwork, &info);
-  lwork = std::max(static_cast<int>(wq), std::max(im, in) * 64);
-  work.resize(lwork);
-  lapack_.dgeqrf(&im, &k, b.U.data(), &im, tu.data(), work.data(), &lwork, &info);
-  if (info) return;
-  lapack_.dgeqrf(&in, &k, b.V.data(), &in, tv.data(), work.data(), &lwork, &info);
-  if (info) return;
-  // core = Ru Rv^T (upper triangular factors in the top k x k of U and V)
-  std::vector<double> core(k * k, 0.0);  // column-major
-  for (int j = 0; j < k; ++j)
-    for (int i = 0; i < k; ++i) {
-      double acc = 0.0;
-      for (int l = std::max(i, j); l < k; ++l) acc += b.U[l * m + i] * b.V[l * n + j];
-      core[j * k + i] = acc;
-    }
-  std::vector<double> sv(k), Wm(k * k), Zt(k * k);
-  char jobu = 'A', jobvt = 'A';
-  int lw = -1;
-  lapack_.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
-                 &wq, &lw, &info);
-  lw = std::max(static_cast<int>(wq), 1);
-  std::vector<double> work2(lw);
-  lapack_.dgesvd(&jobu, &jobvt, &k, &k, core.data(), &k, sv.data(), Wm.data(), &k, Zt.data(), &k,
-                 work2.data(), &lw, &info);
-  if (info) return;
-  double total = 0.0;
-  for (int i = 0; i < k; ++i) total += sv[i] * sv[i];
-  int r = k;
-  double tail = 0.0;
-  while (r > 0 && std::sqrt(tail + sv[r - 1] * sv[r - 1]) <= hp_.eps * std::sqrt(total)) {
-    tail += sv[r - 1] * sv[r - 1];
-    --r;
+  try {
+    truncate_lowrank(U, V, m, n, k, hp_.eps, lapack_);
+  } catch (const std::exception&) {
+    return;
   }
-  if (r == 0) r = 1;
-  // new U = Qu [W_r Sigma_r; 0], new V = Qv [Z_r; 0]
-  std::vector<double> nu(m * r, 0.0), nv(n * r, 0.0);
-  for (int j = 0; j < r; ++j)
-    for (int i = 0; i < k; ++i) {
-      nu[j * m + i] = Wm[j * k + i] * sv[j];
-      nv[j * n + i] = Zt[i * k + j];  // Z = Zt^T
-    }
-  char side = 'L', trans = 'N';
-  lapack_.dormqr(&side, &trans, &im, &r, &k, b.U.data(), &im, tu.data(), nu.data(), &im,
-                 work.data(), &lwork, &info);
-  if (info) return;
-  lapack_.dormqr(&side, &trans, &in, &r, &k, b.V.data(), &in, tv.data(), nv.data(), &in,
-                 work.data(), &lwork, &info);
-  if (info) return;
-  b.U.swap(nu);
-  b.V.swap(nv);
-  b.rank = r;
+  b.U.swap(U);
+  b.V.swap(V);
+  b.rank = k;
 }
 
 void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {

@@ -4,7 +4,8 @@
     bemcontact check PROBLEM.toml [--debug]
     bemcontact mesh-info MESH [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--threads N]
-    bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--json FILE]
+    bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--method M] [--eps E]
+                               [--json FILE]
     bemcontact --version
 
 Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
@@ -118,6 +119,11 @@ def _parser() -> argparse.ArgumentParser:
     )
     two.add_argument("--divisions", metavar="K", type=_positive_int, required=True)
     two.add_argument("--case", choices=("similar", "dissimilar"), default="dissimilar")
+    two.add_argument("--method", choices=("auto", "dense", "hmatrix"), default="auto",
+                     help="linear solver of the condensation (default: auto, dense for small "
+                     "bodies)")
+    two.add_argument("--eps", metavar="E", type=float, default=1e-7,
+                     help="H-matrix block and H-LU accuracy (default 1e-7)")
     two.add_argument("--json", metavar="FILE", type=pathlib.Path, help="write the record here")
     two.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
@@ -262,7 +268,11 @@ def _bench(args: argparse.Namespace) -> int:
                 return EXIT_INPUT
             record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads)
         else:
-            record = two_cubes(args.divisions, args.case, threads=args.threads)
+            if not (0 < args.eps < 1):
+                _error(f"--eps: must be in (0, 1), got {args.eps!r}")
+                return EXIT_INPUT
+            record = two_cubes(args.divisions, args.case, threads=args.threads,
+                               method=args.method, eps=args.eps)
         if args.json is not None:
             write_json(args.json, record)
     except (BemcontactError, OSError) as exc:

@@ -212,6 +212,15 @@ def test_bench_two_cubes_record(tmp_path):
     assert rec["newton_iterations"] >= 1 and 0 < rec["newton_fraction"] < 1
     # the paper's bounds for the dissimilar cubes (docs/validation.md): 800-1077 N
     assert 800 < rec["normal_force"] < 1077
+    assert rec["method"] == "dense" and rec["factor_s"] is None
+    # the compressed path: same force (eps 1e-8: to 1e-6), H-LU seconds recorded
+    path2 = tmp_path / "two_h.json"
+    assert main(["bench", "two-cubes", "--divisions", "3", "--method", "hmatrix", "--eps", "1e-8",
+                 "--json", str(path2)]) == 0
+    rec2 = json.loads(path2.read_text())
+    assert rec2["method"] == "hmatrix" and rec2["factor_s"] > 0 and rec2["eps"] == 1e-8
+    assert rec2["normal_force"] == pytest.approx(rec["normal_force"], rel=1e-6)
+    assert rec2["exact_residual"] <= 1e-6
 
 
 def test_check_prints_what_would_be_solved(capsys, tmp_path):
