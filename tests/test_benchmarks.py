@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import importlib.util
+
+import pytest
 import pathlib
 
 BENCH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
@@ -48,3 +50,15 @@ def test_scaling_script_smoke(capsys):
     assert "Fitted exponents over 144–414 nodes" in out
     assert "| 3 | 222 |" in out  # two cubes K = 3: 144 + 78 nodes
     assert abs(mod.fit([1, 2, 4], [3, 12, 48]) - 2.0) < 1e-12
+
+
+def test_hlu_factor_benchmark_smoke():
+    """benchmarks/hlu_factor.py's record on a small cube with a leaf small
+    enough to compress: refined residual at rounding (1e-10, as in
+    tests/unit/test_hlu.py), sizes consistent."""
+    from bemcontact.bench import hlu_factor
+
+    rec = hlu_factor(300, eps=1e-8, rhs=3)
+    assert rec["nodes"] == 312 and rec["unknowns"] == 936
+    assert rec["refined_residual"] <= 1e-10
+    assert rec["factor_mb"] > 0 and rec["dense_mb"] == pytest.approx(8 * 936**2 / 1e6)

@@ -57,14 +57,11 @@ def cube_divisions(nodes: int) -> int:
     return max(2, round(n))
 
 
-def one_body(
-    nodes: int,
-    *,
-    method: str = "auto",
-    eps: float = 1e-7,
-    threads: int | None = None,
-) -> dict:
-    """Solve the linear-field cube with about ``nodes`` functional nodes."""
+def linear_field_cube(nodes: int):
+    """The benchmark body: a unit cube of quad4 elements with about ``nodes``
+    functional nodes, displacement given on the three ``min`` faces and
+    traction on the others from one linear displacement field.  Returns
+    (body, displacement gradient, stress)."""
     E, nu = 1.0e4, 0.3
     mat = LinearElastic(E, nu)
     grad = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [2e-4, 3e-4, 1.5e-3]])
@@ -76,7 +73,18 @@ def one_body(
         r: Displacement(lambda X: X @ grad.T) if r.endswith("min") else Traction(lambda X, n: n @ sigma)
         for r in mesh.region_names
     }
-    body = ElasticBody(mesh, mat, bcs, name="cube")
+    return ElasticBody(mesh, mat, bcs, name="cube"), grad, sigma
+
+
+def one_body(
+    nodes: int,
+    *,
+    method: str = "auto",
+    eps: float = 1e-7,
+    threads: int | None = None,
+) -> dict:
+    """Solve the linear-field cube with about ``nodes`` functional nodes."""
+    body, grad, sigma = linear_field_cube(nodes)
     linear = LinearSolverOptions(
         method=method, hmatrix=HMatrixOptions(eps=eps), tolerance=min(1e-10, eps * 1e-3)
     )
@@ -182,4 +190,41 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
     }
 
 
-__all__ = ["one_body", "two_cubes", "cube_divisions", "peak_rss_mb"]
+def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
+               threads: int | None = None) -> dict:
+    """Build the linear-field cube's compressed A, factor it by H-LU and
+    solve ``rhs`` random right-hand sides (one refinement step): seconds,
+    memory and residuals (benchmarks/hlu_factor.py)."""
+    from . import _core
+    from .hmatrix import CompressedSystem
+
+    body, _, _ = linear_field_cube(nodes)
+    d = body.discretization
+    ku = body.boundary_data(body.boundary_conditions)[0]
+    m = body.material
+    th = threads if threads is not None else _core.max_threads()
+    t0 = time.perf_counter()
+    cs = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, ku, None, body.quadrature,
+                          HMatrixOptions(eps=eps), th)
+    t1 = time.perf_counter()
+    f = cs.factor()
+    t2 = time.perf_counter()
+    b = np.random.default_rng(0).standard_normal((cs.n, rhs))
+    x = f.solve(b)
+    r = b - cs.matvec(x)
+    first = float(np.linalg.norm(r) / np.linalg.norm(b))
+    x += f.solve(r)
+    t3 = time.perf_counter()
+    second = float(np.linalg.norm(b - cs.matvec(x)) / np.linalg.norm(b))
+    return {
+        "case": "hlu", "nodes": int(d.n_points), "unknowns": int(cs.n), "eps": eps,
+        "build_s": t1 - t0, "factor_s": t2 - t1, "solve_s": t3 - t2, "rhs": rhs,
+        "compressed_mb": cs.stored_bytes / 1e6, "factor_mb": f.stored_bytes / 1e6,
+        "dense_mb": cs.dense_bytes / 1e6, "max_rank": f.max_rank,
+        "residual": first, "refined_residual": second, "peak_rss_mb": peak_rss_mb(),
+        "threads": th, "commit": _commit(),
+    }
+
+
+__all__ = ["one_body", "two_cubes", "hlu_factor", "linear_field_cube", "cube_divisions",
+           "peak_rss_mb"]
