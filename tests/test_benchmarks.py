@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import importlib.util
+import pathlib
 
 import pytest
-import pathlib
 
 BENCH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
 
