@@ -185,3 +185,17 @@ def test_site_loads_nothing_from_the_network(built_site):
         for url in CSS_URL.findall(css.read_text(encoding="utf-8", errors="replace")):
             offenders.append(f"{css.relative_to(built_site)}: url -> {url}")
     assert not offenders, "the site fetches from other hosts:\n" + "\n".join(offenders)
+
+
+def test_validation_figures_script_smoke(tmp_path):
+    """docs/figures/make_validation_figures.py cannot rot: its two cheap
+    figures (patch test, the paper's Figure 1) are redrawn into a temporary
+    directory and are PNGs (the others re-solve the Hertz and
+    Cattaneo–Mindlin validation cases, minutes each)."""
+    script = DOCS / "figures" / "make_validation_figures.py"
+    subprocess.run(
+        [sys.executable, str(script), "--only", "patch_test", "--only", "two_cubes_figure1",
+         "--out", str(tmp_path)], check=True, capture_output=True, text=True, timeout=300,
+    )
+    for name in ("patch_test.png", "two_cubes_figure1.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,0 +1,347 @@
+"""The figures of docs/validation.md: each validation case computed with
+bemcontact and drawn against its analytic solution.
+
+    OMP_NUM_THREADS=1 .venv/bin/python docs/figures/make_validation_figures.py
+    OMP_NUM_THREADS=1 .venv/bin/python docs/figures/make_validation_figures.py --only fretting_loop
+
+writes into docs/figures/ (or ``--out DIR``):
+
+* ``patch_test.png``: contact patch test, quad4 7x7 / quad4 11x11 (the pair
+  of tests/validation/test_contact_patch.py's collocation test), pressure on
+  both bodies' interface nodes and the frame against x, mortar rule vs the
+  paper's collocation rule (exact: 10 MPa everywhere).
+* ``two_cubes_figure1.png``: the founding paper's Figure 1 (u_y of both
+  cubes along a line of the interface, similar and dissimilar materials),
+  the problem files examples/two_cubes_*.toml (lower 6^3, upper 5^3 quad4)
+  drawn by examples/two_cubes_figure.py's ``run``.
+* ``hertz_pressure.png``: Hertz, hemisphere on block, frictionless, at
+  the finest validation mesh h = 0.05 mm.
+* ``hertz_convergence.png``: the Hertz errors (contact radius, peak, profile
+  L2) at h = 0.1, 0.07, 0.05 mm (all three meshes re-solved, about 2.5 min on
+  one core), log-log, with the fitted rates.
+* ``cattaneo_mindlin_traction.png``: pressure and tangential traction q_x
+  along r at Q = 0.5 mu P against Hertz and Cattaneo–Mindlin.
+* ``fretting_loop.png``: the platen's tangential force against the
+  contact's tangential approach over the whole history (initial loading to
+  Q* = 0.75 mu P, then Q* -> -Q* -> Q* in 8 increments per branch) against
+  Cattaneo–Mindlin loading and the Mindlin–Deresiewicz loop.
+
+The set-ups are those of tests/validation/test_hertz_mindlin.py (the same
+mesh sizes, load history and measures, through bemcontact.cases), so the
+figures show the cases whose numbers docs/validation.md tables; the script
+prints those numbers next to each figure.  The two frictional figures come
+from one solve at h = 0.05 mm (22 increments, about 2 min on one core).
+Whole run: about 5 min on one core (OMP_NUM_THREADS=1).
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import importlib.util
+import os
+import pathlib
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+import bemcontact as bc
+from bemcontact import cases
+from bemcontact.io import OutputOptions, write_results
+from bemcontact.plot import plot_force_displacement, plot_radial_profile
+from bemcontact.problem import load_problem
+from bemcontact.reference import contact as ref
+
+HERE = pathlib.Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
+
+# ---------------------------------------------------------------- the validation set-ups
+# (tests/validation/test_hertz_mindlin.py)
+SETUP = cases.SphereOnBlock()
+SIZES = (0.1, 0.07, 0.05)
+MU = 0.3
+SMALL, RATIOS, N_LOOP = 0.02, (0.5, 0.75), 8
+
+# (tests/validation/test_contact_patch.py)
+P0 = 10.0
+MAT1 = bc.LinearElastic(1.0e4, 0.3)
+MAT2 = bc.LinearElastic(3.0e4, 0.2)
+ROLLERS = {"xmin": bc.Displacement((0.0, None, None)), "ymin": bc.Displacement((None, 0.0, None))}
+PATCH_PAIR = "quad4 7x7 / quad4 11x11"
+
+
+def _hertz(P: float) -> ref.Hertz:
+    return ref.hertz(P, SETUP.radius, SETUP.contact_modulus)
+
+
+def _save(fig, path: pathlib.Path) -> pathlib.Path:
+    """Write a PNG through a temporary file in the same directory (as
+    bemcontact.plot does for its own figures)."""
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        fig.savefig(tmp, dpi=150, format="png")
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+# ---------------------------------------------------------------- solves (cached)
+
+
+@functools.lru_cache(maxsize=None)
+def frictionless(h: float):
+    res = cases.sphere_on_block(h).solve()
+    return res, cases.hertz_errors(res.frame, _hertz(res.normal_force))
+
+
+@functools.lru_cache(maxsize=None)
+def frictional():
+    """mu = 0.3 at h = 0.05 mm, the loads set from the frictionless P of the
+    same mesh (as the validation test)."""
+    h = SIZES[-1]
+    P = frictionless(h)[0].normal_force
+    q_max = RATIOS[-1] * MU * P
+    down = np.linspace(q_max, -q_max, N_LOOP + 1)[1:]
+    steps = (
+        [bc.LoadStep(label="P")]
+        + cases.tangential_steps([SMALL * MU * P], increments=1, label="small")
+        + cases.tangential_steps([x * MU * P for x in RATIOS], increments=2)
+        + cases.tangential_steps(down, increments=1, label="unload")
+        + cases.tangential_steps(-down, increments=1, label="reload")
+    )
+    res = cases.sphere_on_block(h, friction_coefficient=MU).solve(steps=steps)
+    return h, P, q_max, res
+
+
+# ---------------------------------------------------------------- figures
+
+
+def fig_hertz_pressure(out: pathlib.Path) -> pathlib.Path:
+    from matplotlib.figure import Figure
+
+    h = SIZES[-1]
+    res, e = frictionless(h)
+    hz = _hertz(res.normal_force)
+    a, p0 = hz.contact_radius, hz.peak_pressure
+    r, p, _, _, state = cases.radial_profile(res.frame)
+    shown = r <= 1.3 * a
+    grid = np.linspace(0.0, 1.3 * a, 400)
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
+    closed = shown & (state > 0)
+    ax.plot(r[closed], p[closed], "o", markersize=3, label="bemcontact (frame nodes in contact)")
+    ax.plot(r[shown & (state == 0)], p[shown & (state == 0)], "x", markersize=3, label="open")
+    ax.plot(grid, hz.pressure(grid), "k-", linewidth=1.2, label=f"Hertz, a = {a:.4f} mm")
+    ax.axvline(a, color="0.6", linewidth=0.8, linestyle="--")
+    ax.set_xlabel("r (mm)")
+    ax.set_ylabel("contact pressure p (MPa)")
+    ax.set_title("pressure")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="lower left", fontsize=8)
+    ax2.plot(r[closed] / a, (p[closed] - hz.pressure(r[closed])) / p0, "o", markersize=3)
+    ax2.axhline(0.0, color="k", linewidth=0.8)
+    ax2.axvline(0.9, color="0.6", linewidth=0.8, linestyle="--")
+    ax2.set_xlabel("r / a")
+    ax2.set_ylabel("($p - p_{Hertz}$) / $p_0$")
+    ax2.set_title(
+        f"error: a {e.contact_radius:+.2%}, peak {e.peak_pressure:+.2%}, L2 (r < 0.9a) {e.profile_l2:.1%}",
+        fontsize=10,
+    )
+    ax2.grid(True, alpha=0.3)
+    fig.suptitle(
+        f"Hertz, hemisphere R = 10 mm on block, frictionless, tri3 h = {h:g} mm: "
+        f"P = {res.normal_force:.1f} N, $p_0$ = {p0:.0f} MPa"
+    )
+    print(f"  h = {h}: P = {res.normal_force:.2f} N, a = {a:.4f} mm, errors a "
+          f"{e.contact_radius:+.4f}, p0 {e.peak_pressure:+.4f}, L2 {e.profile_l2:.4f}, "
+          f"{res.newton_iterations} Newton iterations")
+    return _save(fig, out / "hertz_pressure.png")
+
+
+def fig_hertz_convergence(out: pathlib.Path) -> pathlib.Path:
+    from matplotlib.figure import Figure
+
+    errors = {"contact radius": [], "peak pressure": [], "profile L2 (r < 0.9a)": []}
+    for h in SIZES:
+        res, e = frictionless(h)
+        for k, v in zip(errors, (e.contact_radius, e.peak_pressure, e.profile_l2)):
+            errors[k].append(abs(v))
+        print(f"  h = {h}: P = {res.normal_force:.2f} N, errors a {e.contact_radius:+.4f}, "
+              f"p0 {e.peak_pressure:+.4f}, L2 {e.profile_l2:.4f}, {res.newton_iterations} it.")
+    hs = np.array(SIZES)
+    fig = Figure(figsize=(6.0, 4.6), layout="constrained")
+    ax = fig.subplots()
+    for (name, err), m in zip(errors.items(), ("o", "s", "^")):
+        rate = cases.fitted_rate(hs, err)
+        ax.loglog(hs, 100 * np.array(err), m + "-", label=f"{name}: rate {rate:.1f}")
+        print(f"  {name}: fitted rate {rate:.2f}")
+    for tol in (3, 5):
+        ax.axhline(tol, color="0.6", linewidth=0.8, linestyle=":")
+    ax.text(hs[-1], 3, " 3 %", va="bottom", fontsize=8, color="0.4")
+    ax.text(hs[-1], 5, " 5 %", va="bottom", fontsize=8, color="0.4")
+    ax.set_xticks(hs, [f"{h:g}" for h in hs])
+    ax.minorticks_off()
+    ax.set_xlabel("element size h in the contact zone (mm)")
+    ax.set_ylabel("relative error vs Hertz (%)")
+    ax.set_title("Hertz, hemisphere on block: convergence (tri3)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=9)
+    return _save(fig, out / "hertz_convergence.png")
+
+
+def fig_cattaneo_mindlin(out: pathlib.Path) -> pathlib.Path:
+    h, P0, _, res = frictional()
+    Q, U = cases.platen_history(res)
+    k = 2  # Q = 0.5 mu P
+    s = res.history[k]
+    P = s.normal_force
+    hz = _hertz(P)
+    ratio = Q[k] / (MU * P)
+    c, c_exact = cases.stick_radius(s.frame), ref.cattaneo_mindlin_stick_radius(
+        hz.contact_radius, Q[k], MU, P
+    )
+    r, _, qx, w, _ = cases.radial_profile(s.frame)
+    inner = r < 0.9 * hz.contact_radius
+    l2 = cases.weighted_l2(qx[inner], ref.cattaneo_mindlin_traction(r[inner], hz, Q[k], MU), w[inner])
+    print(f"  Q = {ratio:.4f} mu P: stick radius {c:.4f} mm vs {c_exact:.4f} ({c / c_exact - 1:+.4f}), "
+          f"traction L2 {l2:.4f}")
+    return plot_radial_profile(
+        s, out / "cattaneo_mindlin_traction.png", pressure=hz.pressure,
+        traction=lambda x: ref.cattaneo_mindlin_traction(x, hz, Q[k], MU),
+        title=(f"Cattaneo–Mindlin, hemisphere on block, μ = {MU}, Q = {ratio:.2f} μP, tri3 h = {h:g} mm\n"
+               f"stick radius {c:.3f} mm (analytic {c_exact:.3f}), $q_x$ L2 error (r < 0.9a) {l2:.1%}"),
+    )
+
+
+def fig_fretting_loop(out: pathlib.Path) -> pathlib.Path:
+    h, _, q_max, res = frictional()
+    Q, U = cases.platen_history(res)
+    k0 = 1 + 1 + len(RATIOS) - 1  # the step at Q*
+    P = res.history[k0].normal_force
+    a = _hertz(P).contact_radius
+    S = SETUP.tangential_compliance_factor
+    delta = cases.tangential_approach(Q, U, a, S)
+    # analytic: Cattaneo–Mindlin loading 0 -> Q*, then the Mindlin–Deresiewicz loop
+    ql = np.linspace(0.0, q_max, 100)
+    dl = np.array([ref.cattaneo_mindlin_displacement(q, MU, P, a, S) for q in ql])
+    qa = np.linspace(q_max, -q_max, 200)
+    d_un = ref.mindlin_deresiewicz_unloading(qa, q_max, MU, P, a, S)
+    ua = np.concatenate([dl, [np.nan], d_un, -d_un])
+    fa = np.concatenate([ql, [np.nan], qa, -qa])
+    loop_Q, loop_U = Q[k0:], U[k0:]
+    poly_Q, poly_U = loop_Q[:-1], loop_U[:-1]
+    W = 0.5 * abs(np.sum(poly_Q * np.roll(poly_U, -1) - np.roll(poly_Q, -1) * poly_U))
+    W_closed = ref.fretting_loop_energy(q_max, MU, P, a, S)
+    print(f"  loop energy {W:.5g} N mm vs closed form {W_closed:.5g} ({W / W_closed - 1:+.4f}); "
+          f"closure {(loop_U[-1] - loop_U[0]) / loop_U[0]:+.1e}; Newton iterations per increment "
+          f"{[st.iterations for st in res.steps]}")
+    for kk, ratio in zip((2, 3), RATIOS):
+        d_exact = ref.cattaneo_mindlin_displacement(Q[kk], MU, res.history[kk].normal_force,
+                                                    _hertz(res.history[kk].normal_force).contact_radius, S)
+        print(f"  tangential approach at Q = {ratio} mu P: {delta[kk]:.4e} mm vs {d_exact:.4e} "
+              f"({delta[kk] / d_exact - 1:+.4f})")
+    return plot_force_displacement(
+        1e3 * delta, Q, out / "fretting_loop.png", analytic=(1e3 * ua, fa),
+        title=(f"fretting loop, hemisphere on block, μ = {MU}\nQ* = {q_max / (MU * P):.2f} μP, "
+               f"tri3 h = {h:g} mm; loop energy {W:.3g} N mm\n(Mindlin–Deresiewicz {W_closed:.3g} N mm)"),
+        xlabel="contact tangential approach δ (μm)",
+        ylabel="tangential force Q (N)",
+    )
+
+
+def _patch(rule: str):
+    m1 = bc.box((0, 0, 0), (2, 2, 1), (7, 7, 2), element_type="quad4")
+    m2 = bc.box((0, 0, 1), (2, 2, 2), (11, 11, 2), element_type="quad4")
+    lower = bc.ElasticBody(
+        m1, MAT1, {"zmin": bc.Displacement((None, None, 0.0)), **ROLLERS}, name="lower"
+    )
+    upper = bc.ElasticBody(m2, MAT2, {"zmax": bc.Pressure(P0), **ROLLERS}, name="upper")
+    problem = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", 0.0, rule))
+    return problem.solve(bc.SolverOptions(tolerance=1e-12))
+
+
+def fig_patch_test(out: pathlib.Path) -> pathlib.Path:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    axes = fig.subplots(1, 2, sharey=True)
+    for ax, rule in zip(axes, ("mortar", "collocation")):
+        res = _patch(rule)
+        errs = []
+        for face, m in zip(res.interfaces, ("o", "s")):
+            ok = np.isfinite(face.pressure)
+            ax.plot(face.points[ok, 0], face.pressure[ok], m, markersize=3, alpha=0.6,
+                    label=f"{face.body} interface nodes")
+            errs.append(np.abs(face.pressure[ok] / P0 - 1).max())
+        fr = res.frame
+        act = fr.weights > 0
+        ax.plot(fr.points[act, 0], fr.pressure[act], "+", markersize=5, color="k", label="frame nodes")
+        ax.axhline(P0, color="r", linewidth=1.0, label="exact 10 MPa")
+        ax.set_title(f"{rule} rule: max |p/p0 − 1| = {max(errs):.1e}", fontsize=10)
+        ax.set_xlabel("x (mm)")
+        ax.grid(True, alpha=0.3)
+        print(f"  {rule}: largest body pressure error {max(errs):.2e}, frame "
+              f"{np.abs(fr.pressure[act] / P0 - 1).max():.2e}, {res.newton_iterations} Newton it.")
+    axes[0].set_ylabel("contact pressure p (MPa)")
+    axes[0].legend(fontsize=8, loc="lower center")
+    fig.suptitle("contact patch test, frictionless, lower quad4 7×7 / upper quad4 11×11 "
+                 "(E 1e4 / 3e4 MPa), p0 = 10 MPa on top")
+    return _save(fig, out / "patch_test.png")
+
+
+def fig_two_cubes(out: pathlib.Path) -> pathlib.Path:
+    spec = importlib.util.spec_from_file_location(
+        "two_cubes_figure", ROOT / "examples" / "two_cubes_figure.py"
+    )
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    png = out / "two_cubes_figure1.png"
+    with tempfile.TemporaryDirectory() as tmp:
+        dirs = []
+        for case in ("similar", "dissimilar"):
+            prob = load_problem(ROOT / "examples" / f"two_cubes_{case}.toml")
+            res = prob.contact_problem().solve(prob.options, steps=list(prob.steps) or None)
+            d = pathlib.Path(tmp) / case
+            write_results(res, d, prob.echo, OutputOptions(vtu=False, figures=False))
+            dirs.append(str(d))
+            print(f"  {case}: normal force {res.normal_force:.3f} N, {res.frame.counts()}, "
+                  f"{res.newton_iterations} Newton it.")
+        values = mod.run(*dirs, str(png))
+    for k, v in values.items():
+        print(f"  {k} = {v:.4g} mm")
+    return png
+
+
+FIGURES = {
+    "patch_test": fig_patch_test,
+    "two_cubes_figure1": fig_two_cubes,
+    "hertz_pressure": fig_hertz_pressure,
+    "hertz_convergence": fig_hertz_convergence,
+    "cattaneo_mindlin_traction": fig_cattaneo_mindlin,
+    "fretting_loop": fig_fretting_loop,
+}
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--only", action="append", choices=list(FIGURES), metavar="NAME",
+                    help=f"regenerate only this figure (repeatable): {', '.join(FIGURES)}")
+    ap.add_argument("--out", default=str(HERE), help="output directory (default: docs/figures)")
+    args = ap.parse_args(argv)
+    out = pathlib.Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    total = time.perf_counter()
+    for name in args.only or FIGURES:
+        t0 = time.perf_counter()
+        print(f"{name}:", flush=True)
+        path = FIGURES[name](out)
+        print(f"  wrote {path} in {time.perf_counter() - t0:.1f} s", flush=True)
+    print(f"total {time.perf_counter() - total:.1f} s")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
