@@ -26,24 +26,13 @@ def one(divisions: int) -> dict:
     import numpy as np
     import scipy.linalg
 
-    import bemcontact as bc
+    from bemcontact.bench import linear_field_cube
 
-    E, nu = 1.0e4, 0.3
-    mat = bc.LinearElastic(E, nu)
-    A = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [2e-4, 3e-4, 1.5e-3]])
-    eps = 0.5 * (A + A.T)
-    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
-    sigma = lam * np.trace(eps) * np.eye(3) + 2 * mat.shear_modulus * eps
+    body, A, sigma = linear_field_cube(divisions=divisions)
 
     def u(X):
         return X @ A.T
 
-    def t(X, n):
-        return n @ sigma
-
-    mesh = bc.box((0, 0, 0), (1, 1, 1), divisions, "quad4")
-    bcs = {r: (bc.Displacement(u) if r.endswith("min") else bc.Traction(t)) for r in mesh.region_names}
-    body = bc.ElasticBody(mesh, mat, bcs)
     d = body.discretization
     n = d.n_points
     # assembly alone at 1 thread (then discarded), to show the OpenMP speed-up

@@ -57,18 +57,19 @@ def cube_divisions(nodes: int) -> int:
     return max(2, round(n))
 
 
-def linear_field_cube(nodes: int):
+def linear_field_cube(nodes: int | None = None, *, divisions: int | None = None):
     """The benchmark body: a unit cube of quad4 elements with about ``nodes``
-    functional nodes, displacement given on the three ``min`` faces and
-    traction on the others from one linear displacement field.  Returns
-    (body, displacement gradient, stress)."""
+    functional nodes (or ``divisions`` elements per edge), displacement
+    given on the three ``min`` faces and traction on the others from one
+    linear displacement field.  Returns (body, displacement gradient, stress)."""
     E, nu = 1.0e4, 0.3
     mat = LinearElastic(E, nu)
     grad = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [2e-4, 3e-4, 1.5e-3]])
     strain = 0.5 * (grad + grad.T)
     lam = E * nu / ((1 + nu) * (1 - 2 * nu))
     sigma = lam * np.trace(strain) * np.eye(3) + 2 * mat.shear_modulus * strain
-    mesh = box((0, 0, 0), (1, 1, 1), cube_divisions(nodes))
+    n = divisions if divisions is not None else cube_divisions(nodes)
+    mesh = box((0, 0, 0), (1, 1, 1), n)
     bcs = {
         r: Displacement(lambda X: X @ grad.T) if r.endswith("min") else Traction(lambda X, n: n @ sigma)
         for r in mesh.region_names

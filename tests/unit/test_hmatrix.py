@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 import bemcontact as bc
+from bemcontact.bench import linear_field_cube
 from bemcontact import mesh as M
 from bemcontact import operators as O
 from bemcontact.errors import ConfigError
@@ -116,20 +117,13 @@ def test_threads_give_the_same_operator(cube):
 
 
 def _linear_field_body(divisions, force=False):
-    E, nu = 1.0e4, 0.3
-    mat = bc.LinearElastic(E, nu)
-    A = np.array([[1e-3, 2e-4, -3e-4], [5e-4, -2e-3, 1e-4], [2e-4, 3e-4, 1.5e-3]])
-    e = 0.5 * (A + A.T)
-    lam = E * nu / ((1 + nu) * (1 - 2 * nu))
-    sigma = lam * np.trace(e) * np.eye(3) + 2 * mat.shear_modulus * e
-    mesh = M.box((0, 0, 0), (1, 1, 1), divisions)
-    bcs = {}
-    for r in mesh.region_names:
-        bcs[r] = bc.Displacement(lambda X: X @ A.T) if r.endswith("min") else bc.Traction(lambda X, n: n @ sigma)
+    body, A, sigma = linear_field_cube(divisions=divisions)
     if force:
         # zmax pushed as a rigid platen with the exact resultant of sigma n
+        bcs = dict(body.boundary_conditions)
         bcs["zmax"] = [bc.Force((None, None, sigma[2, 2])), bc.Traction((sigma[0, 2], sigma[1, 2], None))]
-    return bc.ElasticBody(mesh, mat, bcs), A, sigma
+        body = bc.ElasticBody(body.mesh, body.material, bcs)
+    return body, A, sigma
 
 
 def test_compressed_solve_matches_exact_linear_field():
