@@ -312,15 +312,20 @@ class CompressedSystem:
         the border columns, U = x[3N:])."""
         if nodes <= 0:
             return 0.0
-        rng = np.random.default_rng(seed)
-        pick = np.sort(rng.choice(self.n_points, min(nodes, self.n_points), replace=False))
-        As, Bs = self.exact_rows(pick)
+        rows, As, Bs = self.sampled_rows(nodes, seed)
         b = Bs @ values
         r = As @ x[: self.n] - b
         if border is not None and border.shape[1]:
-            rows = (3 * pick[:, None] + np.arange(3)).ravel()
             r = r + border[rows] @ x[self.n :]
         return float(np.linalg.norm(r) / max(np.linalg.norm(b), 1e-300))
+
+    def sampled_rows(self, nodes: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(dof rows, A rows, B rows) of ``nodes`` random nodes, the rows
+        exact (element integrals): what the accuracy checks compare with."""
+        rng = np.random.default_rng(seed)
+        pick = np.sort(rng.choice(self.n_points, min(nodes, self.n_points), replace=False))
+        As, Bs = self.exact_rows(pick)
+        return (3 * pick[:, None] + np.arange(3)).ravel(), As, Bs
 
     def g_columns(self, cols) -> np.ndarray:
         """Columns ``cols`` (dof indices) of G over all rows, (3N, len(cols)),

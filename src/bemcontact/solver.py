@@ -24,14 +24,13 @@ import scipy.linalg
 
 from . import law
 from .body import BodySolution, ElasticBody
-from .errors import AccuracyWarning
+from .errors import AccuracyWarning, ConfigError, ConvergenceError
+from .frame import ContactFrame, _functional_basis, _geometry, _locate
 from .hmatrix import CompressedSystem, LinearSolverOptions
 from .operators import assemble_system
-from .errors import ConfigError, ConvergenceError
-from .frame import ContactFrame, _functional_basis, _geometry, _locate
-from .schema import MAX_THREADS
 from .progress import ProgressEvent, Reporter, Stopwatch, print_lines
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
+from .schema import MAX_THREADS
 
 
 #: Values of :attr:`ContactPair.frame_on`.
@@ -234,10 +233,7 @@ def _solve_compressed(cs: CompressedSystem, rhs: np.ndarray, Rf: np.ndarray, C: 
     t2 = time.perf_counter()
     check = 0.0
     if lin.check_nodes > 0:
-        rng = np.random.default_rng(0)
-        pick = np.sort(rng.choice(cs.n_points, min(lin.check_nodes, cs.n_points), replace=False))
-        rows = (3 * pick[:, None] + np.arange(3)).ravel()
-        As, Bs = cs.exact_rows(pick)
+        rows, As, Bs = cs.sampled_rows(lin.check_nodes)
         b = np.column_stack([Bs @ W[:, :S], Bs[:, dofs], Bs @ W[:, S:]])
         res = As @ X + Rf[rows] @ alpha - b
         check = float(np.linalg.norm(res) / max(np.linalg.norm(b), 1e-300))
