@@ -278,3 +278,16 @@ def test_mesh_info_reports_regions_quality_and_orientation(tmp_path, capsys):
     assert captured.err.startswith("bemcontact: error:") and "inverted orientation" in captured.err
     assert main(["mesh-info", str(tmp_path / "missing.msh")]) == 2
     assert "no such file" in capsys.readouterr().err
+
+
+def test_check_names_the_bodies_on_compressed_operators(tmp_path, capsys):
+    """With [solver.linear] method = "hmatrix", check says which bodies use
+    compressed operators (their memory is not known before the build)."""
+    text = problem(tmp_path).read_text()
+    p = tmp_path / "h.toml"
+    p.write_text('[solver]\nlinear = { method = "hmatrix" }\n\n' + text)
+    assert main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "compressed operators (H-matrix, H-LU) for lower, upper" in out
+    assert main(["check", str(problem(tmp_path))]) == 0
+    assert "compressed operators" not in capsys.readouterr().out
