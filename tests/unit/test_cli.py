@@ -285,7 +285,7 @@ def test_check_names_the_bodies_on_compressed_operators(tmp_path, capsys):
     compressed operators (their memory is not known before the build)."""
     text = problem(tmp_path).read_text()
     p = tmp_path / "h.toml"
-    p.write_text('[solver]\nlinear = { method = "hmatrix" }\n\n' + text)
+    p.write_text(text + '\n[solver]\nlinear = { method = "hmatrix" }\n')
     assert main(["check", str(p)]) == 0
     out = capsys.readouterr().out
     assert "compressed operators (H-matrix, H-LU) for lower, upper" in out
