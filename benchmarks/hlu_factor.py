@@ -1,6 +1,6 @@
 """H-LU of the compressed system against the dense LU, by size.
 
-    python benchmarks/hlu_factor.py [--nodes 1278 2094 3102 5694] [--eps 1e-7]
+    python benchmarks/hlu_factor.py [--nodes 1278 2094 3102 5694] [--eps 1e-7] [--leaf 96]
 
 For the linear-field cube of `bemcontact bench one-body` (about N functional
 nodes, quad4, mixed conditions): H-matrix build, H-LU factorization, solution
@@ -23,7 +23,7 @@ ONE = """
 import json, sys, time
 import numpy as np, scipy.linalg
 from bemcontact.bench import hlu_factor
-rec = hlu_factor(int(sys.argv[1]), eps=float(sys.argv[2]))
+rec = hlu_factor(int(sys.argv[1]), eps=float(sys.argv[2]), leaf_size=int(sys.argv[3]))
 n = rec["unknowns"]
 if n <= 20000:
     a = np.random.default_rng(0).standard_normal((n, n))
@@ -37,16 +37,18 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--nodes", type=int, nargs="+", default=[1278, 2094, 3102, 5694])
     ap.add_argument("--eps", type=float, default=1e-7)
+    ap.add_argument("--leaf", type=int, default=96, help="leaf size (the condensation's default)")
     args = ap.parse_args()
     rows = []
     for n in args.nodes:
         t = time.perf_counter()
-        out = subprocess.run([sys.executable, "-c", ONE, str(n), str(args.eps)],
+        out = subprocess.run([sys.executable, "-c", ONE, str(n), str(args.eps), str(args.leaf)],
                              check=True, capture_output=True, text=True).stdout
         rec = json.loads(out.strip().splitlines()[-1])
         rows.append(rec)
         print(f"# {n}: {time.perf_counter() - t:.0f} s", file=sys.stderr)
-    print(f"eps {args.eps:g}, commit {rows[0]['commit']}, {rows[0]['threads']} threads\n")
+    print(f"eps {args.eps:g}, leaf {args.leaf}, commit {rows[0]['commit']}, "
+          f"{rows[0]['threads']} threads\n")
     print("| nodes | unknowns | build s | H-LU s | dense LU s | H-LU / dense | solve 300 rhs s | A / dense | "
           "factors / dense | max rank | residual | refined | peak RSS MB |")
     print("|---:" * 13 + "|")

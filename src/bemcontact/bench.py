@@ -19,6 +19,7 @@ plus method details.  Keys that do not apply are None.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import pathlib
 import resource
@@ -134,7 +135,6 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
     from . import _core
     from .body import Displacement as Disp
     from .errors import ConfigError
-    from .hmatrix import HMatrixOptions, LinearSolverOptions
     from .solver import ContactPair, ContactProblem, SolverOptions
 
     if case not in ("similar", "dissimilar"):
@@ -154,7 +154,10 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
         name="upper",
     )
     problem = ContactProblem(lower, upper, ContactPair("zmax", "zmin", 0.1))
-    linear = LinearSolverOptions(method=method, hmatrix=HMatrixOptions(eps=eps))
+    base = SolverOptions().linear  # the condensation's defaults (leaf size)
+    linear = dataclasses.replace(
+        base, method=method, hmatrix=dataclasses.replace(base.hmatrix, eps=eps)
+    )
     res = problem.solve(SolverOptions(threads=threads, linear=linear))
     total = time.perf_counter() - t0
     lin = list(res.linear.values())
@@ -192,7 +195,7 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
 
 
 def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
-               threads: int | None = None) -> dict:
+               threads: int | None = None, leaf_size: int = 96) -> dict:
     """Build the linear-field cube's compressed A, factor it by H-LU and
     solve ``rhs`` random right-hand sides (one refinement step): seconds,
     memory and residuals (benchmarks/hlu_factor.py)."""
@@ -206,7 +209,7 @@ def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
     th = threads if threads is not None else _core.max_threads()
     t0 = time.perf_counter()
     cs = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, ku, None, body.quadrature,
-                          HMatrixOptions(eps=eps), th)
+                          HMatrixOptions(eps=eps, leaf_size=leaf_size), th)
     t1 = time.perf_counter()
     f = cs.factor()
     t2 = time.perf_counter()
@@ -219,6 +222,7 @@ def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
     second = float(np.linalg.norm(b - cs.matvec(x)) / np.linalg.norm(b))
     return {
         "case": "hlu", "nodes": int(d.n_points), "unknowns": int(cs.n), "eps": eps,
+        "leaf_size": leaf_size,
         "build_s": t1 - t0, "factor_s": t2 - t1, "solve_s": t3 - t2, "rhs": rhs,
         "compressed_mb": cs.stored_bytes / 1e6, "factor_mb": f.stored_bytes / 1e6,
         "dense_mb": cs.dense_bytes / 1e6, "max_rank": f.max_rank,

@@ -258,8 +258,9 @@ CONTACT = Key(
 )
 
 LINEAR = Key(
-    "linear", "table", "how each body's BEM system is stored and solved (the fields of "
-    "`bemcontact.LinearSolverOptions` and its `HMatrixOptions`)", default={},
+    "linear", "table", "how each body's BEM system is stored and solved for the contact "
+    "condensation (the fields of `SolverOptions.linear`: `bemcontact.LinearSolverOptions` "
+    "and its `HMatrixOptions`)", default={},
     section="solver.linear",
     notes="Compressed operators (H-matrices built by adaptive cross approximation, "
     "factored by an H-LU) need memory and time close to linear in the number of nodes; "
@@ -274,7 +275,8 @@ LINEAR = Key(
             default=1e-6, lo=0, lo_open=True, hi=1, hi_open=True),
         Key("eta", "number", "admissibility parameter: a block is compressed when "
             "min(diameters) <= eta × distance", default=3.0, lo=0, lo_open=True),
-        Key("leaf_size", "integer", "nodes per leaf cluster (at most)", default=48, lo=1),
+        Key("leaf_size", "integer", "nodes per leaf cluster (at most); larger leaves make the "
+            "H-LU faster (measured 96 vs 48: 1.7x at 5,694 nodes)", default=96, lo=1),
         Key("accuracy", "number", "relative residual the solution must reach in the exact "
             "system (sampled); above it an AccuracyWarning asks for a smaller eps",
             default=1e-6, lo=0, lo_open=True, hi=1, hi_open=True),

@@ -26,7 +26,7 @@ from . import law
 from .body import BodySolution, ElasticBody
 from .errors import AccuracyWarning, ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
-from .hmatrix import CompressedSystem, LinearSolverOptions
+from .hmatrix import CompressedSystem, HMatrixOptions, LinearSolverOptions
 from .operators import assemble_system
 from .progress import ProgressEvent, Reporter, Stopwatch, print_lines
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
@@ -107,6 +107,12 @@ class ContactPair:
             )
 
 
+#: The condensation's default linear solver: as LinearSolverOptions(), but
+#: leaves of 96 nodes (the H-LU is 1.15x / 1.7x faster than with 48 at 3,102 /
+#: 5,694 nodes, for 2-9 % more memory; docs/benchmarks.md).
+CONDENSATION_LINEAR = LinearSolverOptions(hmatrix=HMatrixOptions(leaf_size=96))
+
+
 @dataclass(frozen=True)
 class SolverOptions:
     """Generalized Newton settings.
@@ -144,7 +150,8 @@ class SolverOptions:
     linear:
         How each body's BEM system is stored and solved for the condensation:
         dense LAPACK LU, or compressed operators (H-matrix, H-LU); default
-        ``"auto"``: dense up to ``linear.dense_max_nodes`` nodes per body.
+        ``"auto"``: dense up to ``linear.dense_max_nodes`` nodes per body
+        (default :data:`CONDENSATION_LINEAR`: H-matrix leaves of 96 nodes).
     progress:
         Print the stages, load increments and Newton iterations on stderr
         (:func:`bemcontact.progress.print_lines`; ``ContactProblem.solve``
@@ -160,7 +167,7 @@ class SolverOptions:
     watchdog: int = 5
     threads: int | None = None
     progress: bool = False
-    linear: LinearSolverOptions = LinearSolverOptions()
+    linear: LinearSolverOptions = CONDENSATION_LINEAR
 
     def __post_init__(self) -> None:
         if not isinstance(self.linear, LinearSolverOptions):

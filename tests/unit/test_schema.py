@@ -69,10 +69,9 @@ def test_solver_keys_ranges_and_defaults_are_solver_options_own():
                 bc.SolverOptions(**{k.name: outside})
 
 
-def test_linear_defaults_are_linear_solver_options_own():
-    from bemcontact.hmatrix import HMatrixOptions, LinearSolverOptions
-
-    lin, h = LinearSolverOptions(), HMatrixOptions()
+def test_linear_defaults_are_the_condensation_s_own():
+    lin = bc.SolverOptions().linear  # the condensation's defaults
+    h = lin.hmatrix
     for k in schema.LINEAR.keys:
         owner = h if k.name in ("eps", "eta", "leaf_size") else lin
         assert getattr(owner, k.name) == k.default, k.name
