@@ -417,17 +417,24 @@ struct HArith {
     }
   }
 
+  // B := op(T)^{-1} B (side L) or B T^{-1} (side R) with T the lower
+  // (uplo L) or upper (U) triangle of the factored dense diagonal leaf d
+  // (diag U: unit diagonal)
+  void trsm_leaf(char side, char uplo, char diag, const HNode& d, const Mat& B) const {
+    char tr = 'N';
+    int m = I(B.m), n = I(B.n), lda = I(d.m), ld = I(B.ld);
+    double one = 1.0;
+    blas.dtrsm(&side, &uplo, &tr, &diag, &m, &n, &one, const_cast<double*>(d.A.data()), &lda,
+               B.p, &ld);
+  }
+
   // B := L^{-1} P B (L: unit lower factor of diagonal node d, P its pivots)
   void solve_lower(const HNode& d, const Mat& B) const {
     if (B.n == 0) return;
     if (d.kind == kFull) {
       int n = I(B.n), ld = I(B.ld), k1 = 1, k2 = I(d.m), inc = 1;
       blas.dlaswp(&n, B.p, &ld, &k1, &k2, const_cast<int*>(d.piv.data()), &inc);
-      char side = 'L', uplo = 'L', tr = 'N', diag = 'U';
-      int m = I(d.m), lda = I(d.m);
-      double one = 1.0;
-      blas.dtrsm(&side, &uplo, &tr, &diag, &m, &n, &one, const_cast<double*>(d.A.data()), &lda,
-                 B.p, &ld);
+      trsm_leaf('L', 'L', 'U', d, B);
       return;
     }
     const HNode& d11 = d.c(0, 0);
@@ -441,11 +448,7 @@ struct HArith {
   void solve_upper(const HNode& d, const Mat& B) const {
     if (B.n == 0) return;
     if (d.kind == kFull) {
-      char side = 'L', uplo = 'U', tr = 'N', diag = 'N';
-      int m = I(d.m), n = I(B.n), lda = I(d.m), ld = I(B.ld);
-      double one = 1.0;
-      blas.dtrsm(&side, &uplo, &tr, &diag, &m, &n, &one, const_cast<double*>(d.A.data()), &lda,
-                 B.p, &ld);
+      trsm_leaf('L', 'U', 'N', d, B);
       return;
     }
     const int64_t m1 = d.c(0, 0).m;
@@ -458,11 +461,7 @@ struct HArith {
   void solve_upper_right(const HNode& d, const Mat& X) const {
     if (X.m == 0) return;
     if (d.kind == kFull) {
-      char side = 'R', uplo = 'U', tr = 'N', diag = 'N';
-      int m = I(X.m), n = I(d.n), lda = I(d.m), ld = I(X.ld);
-      double one = 1.0;
-      blas.dtrsm(&side, &uplo, &tr, &diag, &m, &n, &one, const_cast<double*>(d.A.data()), &lda,
-                 X.p, &ld);
+      trsm_leaf('R', 'U', 'N', d, X);
       return;
     }
     const int64_t n1 = d.c(0, 0).n;

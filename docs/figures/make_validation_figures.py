@@ -39,7 +39,6 @@ from __future__ import annotations
 import argparse
 import functools
 import importlib.util
-import os
 import pathlib
 import sys
 import tempfile
@@ -50,7 +49,7 @@ import numpy as np
 import bemcontact as bc
 from bemcontact import cases
 from bemcontact.io import OutputOptions, write_results
-from bemcontact.plot import plot_force_displacement, plot_radial_profile
+from bemcontact.plot import plot_force_displacement, plot_radial_profile, save_png
 from bemcontact.problem import load_problem
 from bemcontact.reference import contact as ref
 
@@ -76,19 +75,6 @@ def _hertz(P: float) -> ref.Hertz:
     return ref.hertz(P, SETUP.radius, SETUP.contact_modulus)
 
 
-def _save(fig, path: pathlib.Path) -> pathlib.Path:
-    """Write a PNG through a temporary file in the same directory (as
-    bemcontact.plot does for its own figures)."""
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-    try:
-        fig.savefig(tmp, dpi=150, format="png")
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
-
-
 # ---------------------------------------------------------------- solves (cached)
 
 
@@ -104,15 +90,7 @@ def frictional():
     same mesh (as the validation test)."""
     h = SIZES[-1]
     P = frictionless(h)[0].normal_force
-    q_max = RATIOS[-1] * MU * P
-    down = np.linspace(q_max, -q_max, N_LOOP + 1)[1:]
-    steps = (
-        [bc.LoadStep(label="P")]
-        + cases.tangential_steps([SMALL * MU * P], increments=1, label="small")
-        + cases.tangential_steps([x * MU * P for x in RATIOS], increments=2)
-        + cases.tangential_steps(down, increments=1, label="unload")
-        + cases.tangential_steps(-down, increments=1, label="reload")
-    )
+    steps, q_max = cases.fretting_history(P, MU, SMALL, RATIOS, N_LOOP)
     res = cases.sphere_on_block(h, friction_coefficient=MU).solve(steps=steps)
     return h, P, q_max, res
 
@@ -159,7 +137,7 @@ def fig_hertz_pressure(out: pathlib.Path) -> pathlib.Path:
     print(f"  h = {h}: P = {res.normal_force:.2f} N, a = {a:.4f} mm, errors a "
           f"{e.contact_radius:+.4f}, p0 {e.peak_pressure:+.4f}, L2 {e.profile_l2:.4f}, "
           f"{res.newton_iterations} Newton iterations")
-    return _save(fig, out / "hertz_pressure.png")
+    return save_png(fig, out / "hertz_pressure.png")
 
 
 def fig_hertz_convergence(out: pathlib.Path) -> pathlib.Path:
@@ -190,7 +168,7 @@ def fig_hertz_convergence(out: pathlib.Path) -> pathlib.Path:
     ax.set_title("Hertz, hemisphere on block: convergence (tri3)")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=9)
-    return _save(fig, out / "hertz_convergence.png")
+    return save_png(fig, out / "hertz_convergence.png")
 
 
 def fig_cattaneo_mindlin(out: pathlib.Path) -> pathlib.Path:
@@ -290,7 +268,7 @@ def fig_patch_test(out: pathlib.Path) -> pathlib.Path:
     axes[0].legend(fontsize=8, loc="lower center")
     fig.suptitle("contact patch test, frictionless, lower quad4 7×7 / upper quad4 11×11 "
                  "(E 1e4 / 3e4 MPa), p0 = 10 MPa on top")
-    return _save(fig, out / "patch_test.png")
+    return save_png(fig, out / "patch_test.png")
 
 
 def fig_two_cubes(out: pathlib.Path) -> pathlib.Path:

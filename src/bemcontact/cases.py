@@ -160,6 +160,27 @@ def tangential_steps(
     ]
 
 
+def fretting_history(
+    normal_force: float, mu: float, small: float, ratios, loop_increments: int
+) -> tuple[list[LoadStep], float]:
+    """The validation's loading history of :func:`sphere_on_block` with
+    friction: the normal approach (step ``P``), a small all-stick tangential
+    force ``small`` μP, the Cattaneo–Mindlin forces ``ratios`` × μP (2
+    increments each), then one fretting cycle Q* -> -Q* -> Q* (Q* the last
+    ratio's force) in ``loop_increments`` increments per branch.  Returns
+    (steps, Q*)."""
+    q_max = ratios[-1] * mu * normal_force
+    down = np.linspace(q_max, -q_max, loop_increments + 1)[1:]
+    steps = (
+        [LoadStep(label="P")]
+        + tangential_steps([small * mu * normal_force], increments=1, label="small")
+        + tangential_steps([x * mu * normal_force for x in ratios], increments=2)
+        + tangential_steps(down, increments=1, label="unload")
+        + tangential_steps(-down, increments=1, label="reload")
+    )
+    return steps, float(q_max)
+
+
 # --------------------------------------------------------------------------- measures
 
 
@@ -247,6 +268,7 @@ __all__ = [
     "sphere_on_block",
     "platen",
     "tangential_steps",
+    "fretting_history",
     "two_spheres",
     "radial_profile",
     "platen_history",

@@ -179,10 +179,10 @@ def plot_interface_line(
         ax.axhline(0.0, color="0.7", linewidth=0.8)
         ax.grid(True, alpha=0.3)
         ax.legend()
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
-def _save(fig, path: str | os.PathLike) -> pathlib.Path:
+def save_png(fig, path: str | os.PathLike) -> pathlib.Path:
     """Write ``fig`` as PNG to ``path`` through a temporary file in the same
     directory (an interrupted write never leaves a partial PNG)."""
     out = pathlib.Path(path)
@@ -257,7 +257,7 @@ def plot_radial_profile(
         ax.legend()
     if title:
         fig.suptitle(title)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def plot_force_displacement(
@@ -297,7 +297,7 @@ def plot_force_displacement(
     ax.legend()
     if title:
         ax.set_title(title)
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 def _plane_coordinates(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndarray, str, str]:
@@ -379,7 +379,7 @@ def plot_frame_tractions(
         f"contact frame: normal force {source.normal_force:.6g}, tangential force "
         f"{source.tangential_force:.6g}; " + ", ".join(f"{v} {k}" for k, v in counts.items())
     )
-    return _save(fig, path)
+    return save_png(fig, path)
 
 
 __all__ = [
@@ -389,4 +389,5 @@ __all__ = [
     "plot_radial_profile",
     "plot_force_displacement",
     "plot_frame_tractions",
+    "save_png",
 ]

@@ -17,7 +17,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import bemcontact as bc
 from bemcontact import cases
 from bemcontact.reference import contact as ref
 
@@ -90,15 +89,7 @@ def frictional(frictionless):
     same mesh (the problems decouple: the frictional P equals it to 1e-5)."""
     h, res0, _ = frictionless[-1]
     P = res0.normal_force
-    q_max = RATIOS[-1] * MU * P
-    down = np.linspace(q_max, -q_max, N_LOOP + 1)[1:]
-    steps = (
-        [bc.LoadStep(label="P")]
-        + cases.tangential_steps([SMALL * MU * P], increments=1, label="small")
-        + cases.tangential_steps([x * MU * P for x in RATIOS], increments=2)
-        + cases.tangential_steps(down, increments=1, label="unload")
-        + cases.tangential_steps(-down, increments=1, label="reload")
-    )
+    steps, q_max = cases.fretting_history(P, MU, SMALL, RATIOS, N_LOOP)
     res = cases.sphere_on_block(h, friction_coefficient=MU).solve(steps=steps)
     return h, P, q_max, res
 
