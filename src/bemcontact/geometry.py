@@ -227,17 +227,70 @@ def _ramp(fine: float, coarse: float, growth: float, start: float) -> Callable[[
     return lambda d: min(coarse, fine + growth * max(0.0, d - start))
 
 
+def _size_profile(name: str, knots, fine: float, coarse: float) -> list[tuple[float, float]]:
+    """Checked ``size_profile`` knots: (distance, size) pairs, distances
+    starting at 0 and strictly increasing, sizes within [fine, coarse]."""
+    try:
+        pts = [(float(d), float(h)) for d, h in knots]
+    except (TypeError, ValueError):
+        raise ConfigError(
+            f"{name}: size_profile must be (distance, size) pairs, got {knots!r}"
+        ) from None
+    if not pts or pts[0][0] != 0.0:
+        raise ConfigError(f"{name}: size_profile must start at distance 0, got {knots!r}")
+    for (d0, _), (d1, _) in zip(pts, pts[1:]):
+        if not d1 > d0:
+            raise ConfigError(
+                f"{name}: size_profile distances must increase strictly, got {d0!r} then {d1!r}"
+            )
+    for d, h in pts:
+        if not (math.isfinite(d) and math.isfinite(h) and fine <= h <= coarse):
+            raise ConfigError(
+                f"{name}: size_profile size {h!r} at distance {d!r} must lie between "
+                f"fine_size = {fine!r} and coarse_size = {coarse!r}"
+            )
+    return pts
+
+
+def _profile_ramp(knots, coarse: float, growth: float) -> Callable[[float], float]:
+    """Element size at distance d: linear between the knots, then growing by
+    ``growth`` per unit distance from the last one, capped at ``coarse``."""
+    ds = [d for d, _ in knots]
+    hs = [h for _, h in knots]
+    last_d, last_h = ds[-1], hs[-1]
+
+    def size(d: float) -> float:
+        if d >= last_d:
+            return min(coarse, last_h + growth * (d - last_d))
+        i = next(k for k in range(1, len(ds)) if d < ds[k])
+        t = (d - ds[i - 1]) / (ds[i] - ds[i - 1])
+        return hs[i - 1] + t * (hs[i] - hs[i - 1])
+
+    return size
+
+
+def _grading_ramp(name, fine, coarse, growth, fine_radius, size_profile):
+    """The size-by-distance function of a graded mesh: the uniform fine zone
+    of radius ``fine_radius``, or the knots of ``size_profile``."""
+    if (fine_radius is None) == (size_profile is None):
+        raise ConfigError(f"{name}: give exactly one of fine_radius and size_profile")
+    if size_profile is None:
+        return _ramp(fine, coarse, growth, _number(name, "fine_radius", fine_radius, allow_zero=True))
+    return _profile_ramp(_size_profile(name, size_profile, fine, coarse), coarse, growth)
+
+
 def spherical_cap(
     radius: float,
     height: float,
     *,
     fine_size: float,
     coarse_size: float,
-    fine_radius: float,
+    fine_radius: float | None = None,
     apex=(0.0, 0.0, 0.0),
     axis: int = 1,
     growth: float = 0.3,
     order: int = 2,
+    size_profile=None,
 ) -> SurfaceMesh:
     """Solid spherical segment (a Hertz indenter): the part of a ball of
     radius ``radius`` within ``height`` (along z) of its point ``apex``,
@@ -270,6 +323,13 @@ def spherical_cap(
     order:
         1: flat 3-node triangles; 2: curved 6-node triangles, midside nodes
         on the sphere.
+    size_profile:
+        Optional (distance, size) knots replacing the uniform fine zone: the
+        element size at a distance from the apex, linear between knots
+        (distances from 0, increasing; sizes between ``fine_size`` and
+        ``coarse_size``), growing by ``growth`` beyond the last knot.  E.g.
+        a ring refined at the stick–slip boundary of Cattaneo–Mindlin.
+        Give either ``fine_radius`` or ``size_profile``.
 
     Regions: ``contact`` (the curved surface) and ``base`` (the flat disc).
     Example, a hemisphere R = 10 resting on the plane z = 0 with about ten
@@ -286,7 +346,7 @@ def spherical_cap(
             "is a hemisphere)"
         )
     fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    r_fine = _number(name, "fine_radius", fine_radius, allow_zero=True)
+    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
     a = _point(name, "apex", apex)
     ax = _axis(name, axis)
     center = (a[0], a[1], a[2] + ax * R)
@@ -305,8 +365,6 @@ def spherical_cap(
         gmsh.model.addPhysicalGroup(2, [t for t in faces if t not in flat], name="contact")
         gmsh.model.addPhysicalGroup(2, flat, name="base")
 
-    ramp = _ramp(fine, coarse, g, r_fine)
-
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - a[0]) ** 2 + (y - a[1]) ** 2 + (z - a[2]) ** 2))
 
@@ -321,11 +379,12 @@ def graded_block(
     *,
     fine_size: float,
     coarse_size: float,
-    fine_radius: float,
+    fine_radius: float | None = None,
     growth: float = 0.3,
     order: int = 1,
     quads: bool = False,
     seed: int = 0,
+    size_profile=None,
 ) -> SurfaceMesh:
     """Box [lower, upper] (the flat counter-body of a contact) meshed with
     triangles, or quadrilaterals with ``quads=True``, graded toward the point
@@ -333,7 +392,10 @@ def graded_block(
 
     ``fine_size`` (length) within distance ``fine_radius`` of ``focus``, then
     growing by ``growth`` per unit distance up to ``coarse_size``; ``order``
-    1 or 2 (tri6, or quad9); ``seed`` as for :func:`gmsh_box`.  Regions
+    1 or 2 (tri6, or quad9); ``seed`` as for :func:`gmsh_box`;
+    ``size_profile`` (distance, size) knots in place of the uniform fine
+    zone, as for :func:`spherical_cap` (e.g. a ring refined at a punch's
+    rim).  Regions
     ``xmin``, ``xmax``, ``ymin``, ``ymax``, ``zmin``, ``zmax`` as for
     :func:`gmsh_box`.  Example, the half-space under
     :func:`spherical_cap`'s example::
@@ -355,7 +417,7 @@ def graded_block(
             f"{name}: focus = {focus!r} must lie on a face of the box {lower!r} .. {upper!r}"
         )
     fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    r_fine = _number(name, "fine_radius", fine_radius, allow_zero=True)
+    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
 
     def build(gmsh):
         gmsh.option.setNumber("Mesh.RandomSeed", 1 + int(seed))
@@ -366,8 +428,6 @@ def graded_block(
         if quads:
             gmsh.option.setNumber("Mesh.RecombineAll", 1)
         _box_surfaces(gmsh, lo, hi)
-
-    ramp = _ramp(fine, coarse, g, r_fine)
 
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - f[0]) ** 2 + (y - f[1]) ** 2 + (z - f[2]) ** 2))

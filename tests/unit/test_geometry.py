@@ -203,6 +203,32 @@ def test_graded_block_focus_on_a_side_face():
     assert_graded(L, d, 0.2, 2.5, 0.3, 1.0)
 
 
+def test_size_profile_refines_a_ring():
+    # a ring of size 0.05 at distance 1 (a punch's rim), 0.2 at the centre,
+    # then growth 0.3 per unit distance up to 1.5
+    knots = [(0.0, 0.2), (0.5, 0.2), (0.9, 0.05), (1.1, 0.05)]
+    m = graded_block((-4, -4, -3), (4, 4, 0), (0, 0, 0), fine_size=0.05, coarse_size=1.5,
+                     size_profile=knots)
+    m.check()
+    assert m.signed_volume() == pytest.approx(8 * 8 * 3, rel=1e-12)
+    L, cen = mean_edges(m, np.arange(m.n_elements))
+    d = np.linalg.norm(cen, axis=1)
+    want = lambda x: np.interp(x, *zip(*knots)) if x < 1.1 else min(1.5, 0.05 + 0.3 * (x - 1.1))  # noqa: E731
+    for lo, hi in ((0.0, 0.3), (0.95, 1.05), (2.0, 2.5)):
+        band = (d >= lo) & (d < hi)
+        assert band.sum() >= 5
+        expected = np.mean([want(x) for x in d[band]])
+        assert L[band].mean() == pytest.approx(expected, rel=0.35), (lo, hi, L[band].mean(), expected)
+    # the same knots on a cap: fine at the ring, coarser at the apex
+    c = spherical_cap(10.0, 10.0, fine_size=0.05, coarse_size=2.5, size_profile=knots, order=1)
+    Lc, cc = mean_edges(c, c.region("contact"))
+    dc = np.linalg.norm(cc, axis=1)
+    ring = (dc > 0.95) & (dc < 1.05)
+    apex = dc < 0.3
+    assert Lc[ring].mean() == pytest.approx(0.05, rel=0.35)
+    assert Lc[apex].mean() == pytest.approx(0.2, rel=0.35)
+
+
 def test_gmsh_box_quads_are_all_quadrilaterals():
     # blossom recombination used to leave triangles at this size (mixed tri3/quad4)
     m = gmsh_box((0, 0, 0), (2, 2, 1), 0.2, quads=True)
@@ -285,6 +311,18 @@ PUNCH = dict(radius=1.0, height=1.0, fine_size=0.05, coarse_size=0.5)
         (graded_block, BLOCK, {"focus": (0, 0, 0.5)}, r"focus = \(0, 0, 0.5\) must lie on a face"),
         (graded_block, BLOCK, {"fine_size": 1.0}, r"fine_size = 1.0 must not exceed"),
         (graded_block, BLOCK, {"order": 0}, r"order must be 1 or 2, got 0"),
+        (graded_block, BLOCK, {"size_profile": [(0, 0.1)]}, r"exactly one of fine_radius and size_profile"),
+        (graded_block, {**BLOCK, "fine_radius": None}, {}, r"exactly one of fine_radius and size_profile"),
+        (graded_block, {**BLOCK, "fine_radius": None}, {"size_profile": [(0.1, 0.1)]},
+         r"size_profile must start at distance 0"),
+        (graded_block, {**BLOCK, "fine_radius": None}, {"size_profile": [(0, 0.1), (0, 0.2)]},
+         r"distances must increase strictly, got 0.0 then 0.0"),
+        (graded_block, {**BLOCK, "fine_radius": None}, {"size_profile": [(0, 0.05)]},
+         r"size 0.05 at distance 0.0 must lie between fine_size = 0.1 and coarse_size = 0.5"),
+        (graded_block, {**BLOCK, "fine_radius": None}, {"size_profile": [(0, "x")]},
+         r"size_profile must be \(distance, size\) pairs"),
+        (spherical_cap, {**CAP, "fine_radius": None}, {"size_profile": 3},
+         r"size_profile must be \(distance, size\) pairs"),
         (punch, PUNCH, {"radius": 0.0}, r"radius must be .* > 0, got 0"),
         (punch, PUNCH, {"height": -1.0}, r"height must be .* > 0, got -1"),
         (punch, PUNCH, {"center_size": 0.01}, r"center_size = 0.01 must lie between"),
