@@ -21,6 +21,10 @@ writes into docs/figures/ (or ``--out DIR``):
   one core), log-log, with the fitted rates.
 * ``cattaneo_mindlin_traction.png``: pressure and tangential traction q_x
   along r at Q = 0.5 mu P against Hertz and Cattaneo–Mindlin.
+* ``boussinesq_punch.png``: the flat punch on a block (the set-up of
+  tests/validation/test_boussinesq.py) at rim sizes 0.07, 0.05 and 0.035 a:
+  pressure along r against Boussinesq's, and the force error after the
+  finite block's measured compliance is removed (about 4 min on one core).
 * ``fretting_loop.png``: the platen's tangential force against the
   contact's tangential approach over the whole history (initial loading to
   Q* = 0.75 mu P, then Q* -> -Q* -> Q* in 8 increments per branch) against
@@ -71,6 +75,12 @@ ROLLERS = {"xmin": bc.Displacement((0.0, None, None)), "ymin": bc.Displacement((
 PATCH_PAIR = "quad4 7x7 / quad4 11x11"
 
 
+# (tests/validation/test_boussinesq.py)
+PUNCH = cases.PunchOnBlock()
+PUNCH_RIMS = (0.07, 0.05, 0.035)
+PUNCH_DELTA = 1.0e-3
+
+
 def _hertz(P: float) -> ref.Hertz:
     return ref.hertz(P, SETUP.radius, SETUP.contact_modulus)
 
@@ -93,6 +103,21 @@ def frictional():
     steps, q_max = cases.fretting_history(P, MU, SMALL, RATIOS, N_LOOP)
     res = cases.sphere_on_block(h, friction_coefficient=MU).solve(steps=steps)
     return h, P, q_max, res
+
+
+@functools.lru_cache(maxsize=None)
+def punch(rim: float):
+    """(result, block compliance, corrected force error, profile L2) of the
+    Boussinesq set-up at rim size ``rim``."""
+    problem = cases.punch_on_block(rim, PUNCH_DELTA, PUNCH)
+    res = problem.solve()
+    comp = cases.block_compliance(problem.bodies[0], PUNCH.radius)
+    F, a, es = res.normal_force, PUNCH.radius, PUNCH.contact_modulus
+    err = F / ref.boussinesq_punch_force(a, PUNCH_DELTA - comp.compliance * F, es) - 1.0
+    r, p, _, w, _ = cases.radial_profile(res.frame)
+    inner = r < 0.8 * a
+    l2 = cases.weighted_l2(p[inner], ref.boussinesq_punch_pressure(r[inner], a, F), w[inner])
+    return res, comp, err, l2
 
 
 # ---------------------------------------------------------------- figures
@@ -294,6 +319,58 @@ def fig_two_cubes(out: pathlib.Path) -> pathlib.Path:
     return png
 
 
+def fig_boussinesq(out: pathlib.Path) -> pathlib.Path:
+    from matplotlib.figure import Figure
+
+    a = PUNCH.radius
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
+    rows = []
+    for rim in PUNCH_RIMS:
+        res, comp, err, l2 = punch(rim)
+        F = res.normal_force
+        raw = F / ref.boussinesq_punch_force(a, PUNCH_DELTA, PUNCH.contact_modulus) - 1.0
+        rows.append((rim, err, l2))
+        print(f"  rim {rim:g} a: F = {F:.3f} N, raw {raw:+.4f}, block compliance "
+              f"{comp.compliance:.4e} mm/N (spread {comp.spread:.1e}), corrected {err:+.4f}, "
+              f"profile L2 (r < 0.8a) {l2:.4f}, {res.newton_iterations} Newton it., "
+              f"{res.timings['total']:.0f} s")
+    res, _, err, l2 = punch(PUNCH_RIMS[-1])
+    r, p, _, _, state = cases.radial_profile(res.frame)
+    under = r < a
+    F = res.normal_force
+    grid = np.linspace(0.0, 0.995 * a, 400)
+    pm = F / (np.pi * a * a)
+    ax.plot(r[under] / a, p[under] / pm, "o", markersize=2.5, label="bemcontact (frame nodes, r < a)")
+    ax.plot(grid / a, ref.boussinesq_punch_pressure(grid, a, F) / pm, "k-", linewidth=1.2,
+            label="Boussinesq, same F")
+    ax.axvline(0.8, color="0.6", linewidth=0.8, linestyle="--")
+    ax.set_ylim(0.0, 3.0)
+    ax.set_xlabel("r / a")
+    ax.set_ylabel("p / (F / π a²)")
+    ax.set_title(f"pressure, rim size {PUNCH_RIMS[-1]:g} a: L2 (r < 0.8a) {l2:.1%}", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", fontsize=8)
+    hs = np.array([x[0] for x in rows])
+    for k, (name, m) in enumerate((("force, block corrected", "o"), ("profile L2 (r < 0.8a)", "s"))):
+        e = np.array([abs(x[1 + k]) for x in rows])
+        ax2.loglog(hs, 100 * e, m + "-", label=f"{name}: rate {cases.fitted_rate(hs, e):.1f}")
+    ax2.axhline(2.0, color="0.6", linewidth=0.8, linestyle=":")
+    ax2.set_xticks(hs, [f"{h:g}" for h in hs])
+    ax2.minorticks_off()
+    ax2.set_xlabel("element size at the rim (units of a)")
+    ax2.set_ylabel("relative error vs Boussinesq (%)")
+    ax2.set_title("convergence", fontsize=10)
+    ax2.grid(True, which="both", alpha=0.3)
+    ax2.legend(fontsize=8)
+    fig.suptitle(
+        f"Boussinesq flat punch (a = {a:g} mm, 10⁴ × stiffer) on a steel block "
+        f"{2 * PUNCH.block_half_width:g} × {2 * PUNCH.block_half_width:g} × {PUNCH.block_depth:g} mm, "
+        f"δ = {PUNCH_DELTA:g} mm, frictionless"
+    )
+    return save_png(fig, out / "boussinesq_punch.png")
+
+
 FIGURES = {
     "patch_test": fig_patch_test,
     "two_cubes_figure1": fig_two_cubes,
@@ -301,6 +378,7 @@ FIGURES = {
     "hertz_convergence": fig_hertz_convergence,
     "cattaneo_mindlin_traction": fig_cattaneo_mindlin,
     "fretting_loop": fig_fretting_loop,
+    "boussinesq_punch": fig_boussinesq,
 }
 
 

@@ -5,6 +5,9 @@ their analytic solutions (docs/validation.md).
   friction and a tangential platen force, Cattaneo–Mindlin and
   Mindlin–Deresiewicz).  Meshes from :mod:`bemcontact.geometry`, graded
   toward the contact point.
+* :func:`punch_on_block`: a much stiffer flat-ended cylinder pressed on a
+  block (Boussinesq), with :func:`block_compliance`, the finite block's
+  departure from the half-space measured on the same mesh.
 * :func:`radial_profile`, :func:`hertz_errors`, :func:`stick_radius`,
   :func:`weighted_l2`: what the validation tests, the example and the
   benchmark measure, defined once.
@@ -17,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import geometry
-from .body import Displacement, ElasticBody, Fixed, Force
+from .body import Displacement, ElasticBody, Fixed, Force, Traction
 from .errors import ConfigError
 from .law import STICK
 from .material import LinearElastic
-from .reference.contact import Hertz, tangential_compliance_factor
+from .reference.contact import Hertz, effective_modulus, tangential_compliance_factor
 from .results import FrameResult
 from .solver import ContactPair, ContactProblem, LoadStep
 
@@ -40,6 +43,17 @@ class SphereOnBlock:
     fine_radius: float = 0.7
     coarse_size: float = 2.5
     search_distance: float = 0.05
+    growth: float = 0.3
+    #: optional (distance, size) knots for both bodies instead of the uniform
+    #: fine zone (``fine_radius``), e.g. a ring refined at a stick–slip
+    #: boundary; see :func:`geometry.graded_block`
+    size_profile: tuple | None = None
+
+    def grading(self) -> dict:
+        """The grading arguments of :mod:`bemcontact.geometry` for both bodies."""
+        if self.size_profile is None:
+            return {"fine_radius": self.fine_radius, "growth": self.growth}
+        return {"size_profile": self.size_profile, "growth": self.growth}
 
     @property
     def contact_modulus(self) -> float:
@@ -79,7 +93,7 @@ def _hemisphere(s: SphereOnBlock, fine_size: float, apex_z: float, axis: int, or
     """The graded hemisphere of ``s`` with its apex at (0, 0, apex_z)."""
     return geometry.spherical_cap(
         s.radius, s.radius, apex=(0.0, 0.0, apex_z), axis=axis, fine_size=fine_size,
-        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+        coarse_size=s.coarse_size, order=order, **s.grading(),
     )
 
 
@@ -103,7 +117,7 @@ def sphere_on_block(
     w, d = s.block_half_width, s.block_depth
     blk = geometry.graded_block(
         (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=fine_size,
-        coarse_size=s.coarse_size, fine_radius=s.fine_radius, order=order,
+        coarse_size=s.coarse_size, order=order, **s.grading(),
     )
     cap = _hemisphere(s, fine_size, 0.0, 1, order)
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
@@ -179,6 +193,145 @@ def fretting_history(
         + tangential_steps(-down, increments=1, label="reload")
     )
     return steps, float(q_max)
+
+
+@dataclass(frozen=True)
+class PunchOnBlock:
+    """Sizes and materials of :func:`punch_on_block` (defaults: a punch of
+    radius a = 1 mm and height a, ``stiffness_ratio`` times stiffer than the
+    steel block 20 x 20 x 10 mm, so a/L = 0.05 and a/depth = 0.1).
+
+    The block's top face is meshed by :func:`geometry.graded_block` with a
+    ``size_profile``: ``center_size`` under the punch's centre, the rim
+    size at r = a (uniform over a band of +-2 rim sizes), and ``growth``
+    per unit distance on both sides of the band."""
+
+    radius: float = 1.0
+    youngs_modulus: float = 210000.0
+    poisson_ratio: float = 0.3
+    stiffness_ratio: float = 1.0e4
+    block_half_width: float = 10.0
+    block_depth: float = 10.0
+    center_size: float = 0.15
+    coarse_size: float = 4.0
+    growth: float = 0.3
+    search_distance: float = 0.05
+
+    @property
+    def contact_modulus(self) -> float:
+        """E* of the pair (the punch's own compliance included)."""
+        E, nu = self.youngs_modulus, self.poisson_ratio
+        return effective_modulus(E, nu, self.stiffness_ratio * E, nu)
+
+
+def punch_on_block(rim_size: float, indentation: float = 1.0e-3, setup: PunchOnBlock | None = None,
+                   order: int = 1) -> ContactProblem:
+    """A flat-ended cylinder (body ``punch``, flat end the disc r <= a at
+    z = 0, region ``contact``) pushed down by ``indentation`` through its top
+    face (all components prescribed) into a block (body ``block``, top face
+    z = 0, base clamped); frictionless, the frame on the block.  Element size
+    ``rim_size`` at the rim on both bodies.  Boussinesq: F = 2 a E* delta for
+    a half-space; see :func:`block_compliance` for the finite block."""
+    s = setup or PunchOnBlock()
+    a = s.radius
+    if not (isinstance(rim_size, (int, float)) and 0 < rim_size <= min(s.center_size, 0.1 * a)):
+        raise ConfigError(
+            f"punch_on_block: rim_size must be in (0, min(center_size, 0.1 radius) = "
+            f"{min(s.center_size, 0.1 * a):g}], got {rim_size!r}"
+        )
+    if not (isinstance(indentation, (int, float)) and 0 < indentation < 0.1 * a):
+        raise ConfigError(f"punch_on_block: indentation must be in (0, 0.1 radius), got {indentation!r}")
+    h, hc, g = float(rim_size), s.center_size, s.growth
+    band = 2.0 * h
+    knots = [(0.0, hc), (max(a - band - (hc - h) / g, 0.5 * (a - band)), hc), (a - band, h), (a + band, h)]
+    if knots[1][0] >= knots[2][0]:  # pragma: no cover - excluded by the rim_size check
+        knots.pop(1)
+    w, d = s.block_half_width, s.block_depth
+    blk = geometry.graded_block(
+        (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=h, coarse_size=s.coarse_size,
+        size_profile=knots, growth=g, order=order,
+    )
+    pm = geometry.punch(
+        a, a, fine_size=h, coarse_size=min(s.coarse_size, 0.5 * a),
+        center_size=min(2.0 * hc, 0.5 * a), growth=g, order=order,
+    )
+    E, nu = s.youngs_modulus, s.poisson_ratio
+    block = ElasticBody(blk, LinearElastic(E, nu), {"zmin": Fixed()}, name="block")
+    punch = ElasticBody(
+        pm, LinearElastic(s.stiffness_ratio * E, nu),
+        {"top": Displacement((0.0, 0.0, -float(indentation)))}, name="punch",
+    )
+    pair = ContactPair("zmax", "contact", 0.0, search_distance=s.search_distance * a, frame_on="body1")
+    return ContactProblem(block, punch, pair)
+
+
+@dataclass(frozen=True)
+class BlockCompliance:
+    """The finite block's departure from the half-space near a loaded disc
+    (:func:`block_compliance`).
+
+    compliance:
+        Extra normal displacement per unit force, w_block - w_half-space
+        (length/force; < 0 when the block is stiffer, e.g. a clamped base).
+    spread:
+        Standard deviation of w_block - w_half-space over the nodes with
+        r < 0.7 a, relative to the mean half-space displacement there: how
+        far the departure is from a uniform shift.
+    force:
+        Resultant of the applied (interpolated) load.
+    """
+
+    compliance: float
+    spread: float
+    force: float
+
+
+def block_compliance(block: ElasticBody, radius: float, region: str = "zmax",
+                     center=(0.0, 0.0), threads: int | None = None) -> BlockCompliance:
+    """Measure how much a finite block's surface displacement near a loaded
+    disc departs from the half-space's, per unit force.
+
+    The block (its own conditions elsewhere, ``region`` a face z = const
+    with outward normal +z) is loaded on the disc of ``radius`` about
+    ``center`` by Hertz's pressure p0 sqrt(1 - r^2/a^2), whose half-space
+    displacement pi p0 (2a^2 - r^2) / (4 a E*) is known in closed form, and
+    the difference w_block - w_half-space is averaged over the nodes with
+    r < 0.7 a.  For a small disc the departure is the smooth response of the
+    far boundaries (base, sides) to what is nearly a point force: a uniform
+    shift proportional to the force and nearly independent of how the force
+    is spread (``spread`` checks that), so it corrects an indentation
+    measured on the same block:  delta_half-space = delta - compliance * F."""
+    a = float(radius)
+    if not (a > 0 and np.isfinite(a)):
+        raise ConfigError(f"block_compliance: radius must be a finite number > 0, got {radius!r}")
+    cx, cy = (float(c) for c in center)
+    p0 = 1.0  # linear: any scale
+
+    def load(points, normals):
+        r = np.hypot(points[:, 0] - cx, points[:, 1] - cy)
+        t = np.zeros_like(points)
+        t[:, 2] = -p0 * np.sqrt(np.clip(1.0 - (r / a) ** 2, 0.0, None))
+        return t
+
+    conditions = {**block.boundary_conditions, region: Traction(load)}
+    loaded = ElasticBody(
+        block.mesh, block.material, conditions, quadrature=block.quadrature,
+        discretization=block.discretization_options, name=block.name,
+    )
+    sol = loaded.solve(threads=threads)
+    force = -float(sol.reaction(region)[2])
+    i = sol.nodes_of(region)
+    r = np.hypot(sol.points[i, 0] - cx, sol.points[i, 1] - cy)
+    inner = r < 0.7 * a
+    m = block.material
+    es = m.youngs_modulus / (1.0 - m.poisson_ratio**2)
+    w_half = np.pi * p0 * (2 * a * a - r[inner] ** 2) / (4 * a * es)
+    diff = -sol.displacement[i[inner], 2] - w_half
+    return BlockCompliance(
+        compliance=float(diff.mean() / force),
+        spread=float(diff.std() / w_half.mean()),
+        force=force,
+    )
 
 
 # --------------------------------------------------------------------------- measures
@@ -270,6 +423,10 @@ __all__ = [
     "tangential_steps",
     "fretting_history",
     "two_spheres",
+    "PunchOnBlock",
+    "punch_on_block",
+    "BlockCompliance",
+    "block_compliance",
     "radial_profile",
     "platen_history",
     "tangential_approach",

@@ -233,7 +233,10 @@ class ContactFrame:
     owner: 0 or 1, the body whose contact surface carries the frame.
     points: (m, 3) frame node positions.  Q: (m, 3, 3) local bases, columns
     (t1, t2, n), n from body 1 into body 2.  weights: (m,) a_j = ∫ N_j over
-    the common area.  size: (m,) h_j = sqrt(a_j).
+    the common area.  size: (m,) h_j = sqrt(A_j), A_j = ∫ N_j over the
+    frame surface's elements around node j, whether the other body covers
+    them or not (a node the other body barely reaches keeps its element
+    size: sqrt(a_j) would make its penalty c E*/h_j arbitrarily large).
     nodes: (n_1,), (n_2,) the contact functional nodes of each body.
     D: (n_1, m), (n_2, m) coupling matrices.  M: (n_1, n_1), (n_2, n_2)
     consistent interface mass matrices.
@@ -452,7 +455,21 @@ class ContactFrame:
         # frame nodes the other body does not reach carry no unknowns
         self.active = self.weights > 1e-12 * self.weights.max()
         self.M = tuple(self._mass(sf) for sf in self._s)
-        self.size = np.sqrt(np.maximum(self.weights, 0.0))
+        self.size = np.sqrt(self._full_weights())
+
+    def _full_weights(self) -> np.ndarray:
+        """(m,) ∫ N_j over all the frame surface's elements (flat corner
+        geometry: an element's area shared equally by its corners)."""
+        sf = self._s[self.owner]
+        mesh = sf.disc.mesh
+        nc = CORNERS[mesh.element_type]
+        X = mesh.nodes[mesh.elements[sf.elements, :nc]]  # (m_e, nc, 3)
+        area = 0.5 * np.linalg.norm(np.cross(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]), axis=1)
+        if nc == 4:
+            area += 0.5 * np.linalg.norm(np.cross(X[:, 2] - X[:, 0], X[:, 3] - X[:, 0]), axis=1)
+        out = np.zeros(self.n_frame)
+        np.add.at(out, self._fconn, np.repeat(area[:, None] / nc, nc, axis=1))
+        return out
 
     @staticmethod
     def _mass(sf: _Surface) -> np.ndarray:
