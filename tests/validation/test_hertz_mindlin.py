@@ -19,6 +19,7 @@ import pytest
 
 from bemcontact import cases
 from bemcontact.reference import contact as ref
+from bemcontact.solver import LoadStep
 
 pytestmark = pytest.mark.validation
 
@@ -94,6 +95,29 @@ def frictional(frictionless):
     return h, P, q_max, res
 
 
+#: The Cattaneo–Mindlin solve on the stick–slip ring mesh: P, the small
+#: step, then 0.5 and 0.75 mu P in RING_INCREMENTS increments each (two
+#: stall on this mesh: the residual cycles at 1e-2 while the slip zone
+#: jumps by a ring of nodes).  Q is set from the uniform mesh's P (the
+#: ring's P equals it to 1e-4); the analytic values use the step's own Q
+#: and P.
+RING_INCREMENTS = 4
+
+
+@pytest.fixture(scope="module")
+def ring(frictionless):
+    P0 = frictionless[-1][1].normal_force
+    ring = cases.STICK_SLIP_RING
+    steps = (
+        [LoadStep(label="P")]
+        + cases.tangential_steps([SMALL * MU * P0], increments=1, label="small")
+        + cases.tangential_steps([x * MU * P0 for x in RATIOS], increments=RING_INCREMENTS)
+    )
+    fine = min(h for _, h in ring.size_profile)
+    res = cases.sphere_on_block(fine, friction_coefficient=MU, setup=ring).solve(steps=steps)
+    return P0, res
+
+
 def test_frictional_solve_converges_in_few_iterations(frictional):
     """Every increment converges, in <= 15 Newton iterations (measured 5-13:
     the watchdog line search takes the full steps through the stick-to-slip
@@ -122,30 +146,31 @@ def test_hertz_with_friction(frictional):
 
 
 @pytest.mark.parametrize("k, ratio", [(2, 0.5), (3, 0.75)])
-def test_cattaneo_mindlin(frictional, k, ratio):
-    """Q = 0.5 and 0.75 mu P at constant approach, against Cattaneo–Mindlin
-    for the step's own P:
+def test_cattaneo_mindlin(ring, k, ratio):
+    """Q = 0.5 and 0.75 mu P at constant approach on the stick–slip ring
+    mesh (cases.STICK_SLIP_RING: 0.03 mm on 0.39 <= r <= 0.50 mm, 0.05 mm
+    elsewhere in the contact), against Cattaneo–Mindlin for the step's own
+    Q and P:
 
     * stick radius (area of the stuck frame nodes) within 5 % of
-      a (1 - Q/mu P)^(1/3) (measured -1.9 % and -2.1 %);
-    * tangential approach within 5 % (measured -1.1 % and -1.1 %; the
+      a (1 - Q/mu P)^(1/3) (measured -1.4 % and -1.7 %);
+    * tangential approach within 5 % (measured -2.4 % and -2.3 %; the
       finite bodies' linear compliance is replaced by S/8a, see
-      cases.tangential_approach, so
-      this checks the slip-dependent part, 10-17 % of the total);
+      cases.tangential_approach, so this checks the slip-dependent part,
+      10-17 % of the total);
     * traction profile (x traction on the block, frame-node weighted L2 on
-      r < 0.9 a): <= 10 % at 0.75 (measured 7.1 %); at 0.5 measured 13.3 %
-      here and 10.8 % at h = 0.04 (docs/validation.md: the error sits at
-      the stick-slip boundary, whose square-root kink this mesh resolves
-      with 2 elements; rate ~1) — asserted <= 15 %, short of the issue's
-      10 %, which needs h ~ 0.035 (issue 7's speed)."""
-    h, P0, _, res = frictional
+      r < 0.9 a) within the issue's 10 % (measured 8.4 % and 5.5 %; on the
+      uniform 0.05 mm mesh 13.3 % and 7.2 %: the error sits at the
+      stick–slip boundary, the square-root kink of the analytic traction,
+      docs/validation.md)."""
+    P0, res = ring
     Q, U = cases.platen_history(res)
     s = res.history[k]
     P = s.normal_force
     hz = _hertz(P)
     a = hz.contact_radius
     assert Q[k] == pytest.approx(ratio * MU * P0, rel=1e-9)
-    assert Q[k] / (MU * P) == pytest.approx(ratio, rel=1e-4)
+    assert Q[k] / (MU * P) == pytest.approx(ratio, rel=1e-3)
     c_exact = ref.cattaneo_mindlin_stick_radius(a, Q[k], MU, P)
     c = cases.stick_radius(s.frame)
     d_exact = ref.cattaneo_mindlin_displacement(Q[k], MU, P, a, SETUP.tangential_compliance_factor)
@@ -153,11 +178,28 @@ def test_cattaneo_mindlin(frictional, k, ratio):
     r, _, qx, w, _ = cases.radial_profile(s.frame)
     inner = r < 0.9 * a
     l2 = cases.weighted_l2(qx[inner], ref.cattaneo_mindlin_traction(r[inner], hz, Q[k], MU), w[inner])
-    print(f"Q/muP={ratio}: stick radius {c / c_exact - 1:+.4f}, approach {d / d_exact - 1:+.4f}, "
-          f"profile L2 {l2:.4f}")
+    print(f"Q/muP={Q[k] / (MU * P):.4f}: stick radius {c / c_exact - 1:+.4f}, approach "
+          f"{d / d_exact - 1:+.4f}, profile L2 {l2:.4f}")
     assert abs(c / c_exact - 1) <= 0.05
     assert abs(d / d_exact - 1) <= 0.05
-    assert l2 <= (0.10 if ratio >= 0.75 else 0.15)
+    assert l2 <= 0.10
+
+
+def test_ring_mesh_solve_converges_and_matches_hertz(ring):
+    """The ring mesh's normal step: Hertz within the issue's 3 % / 3 % / 5 %
+    (measured -0.15 % / +1.2 % / 2.2 %), every increment converged in <= 25
+    Newton iterations (measured [11, 6, 5, 6, 7, 19, 13, 7, 7, 7]: the last
+    increment to 0.5 mu P moves the slip front across the ring's finest
+    elements)."""
+    _, res = ring
+    assert res.converged
+    its = [s.iterations for s in res.steps]
+    print("Newton iterations per increment:", its)
+    assert max(its) <= 25, its
+    s = res.history[0]
+    e = cases.hertz_errors(s.frame, _hertz(s.normal_force))
+    assert abs(e.contact_radius) <= 0.03 and abs(e.peak_pressure) <= 0.03
+    assert e.profile_l2 <= 0.05
 
 
 def test_fretting_loop(frictional):
