@@ -841,10 +841,76 @@ class _InterfaceSystem:
         J[3 * mc :] = self._eq
         return J, rows, state
 
+    def first_touch(self, z, ell, k_prev) -> np.ndarray:
+        """Predictor for a force-controlled body held only by the contact
+        (a sphere pushed by a force onto a block, touching at a point): with
+        every node open at ``z`` the Newton matrix is singular in the
+        platen's translation.  Each such translation (its resultant row has
+        no stiffness of its own) is moved, traction multipliers held, until
+        the augmented-Lagrangian trial pressures max(0, -r k_n) of the nodes
+        it closes balance the prescribed force: a penalty contact that
+        starts Newton with a patch of about the right size.  ``z`` is
+        returned unchanged when a node is already closed, or when no such
+        translation moves the normal gaps (it is left to the error of the
+        singular matrix)."""
+        lam, parts = self.split(z)
+        state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu, self.r, self.r)
+        if (state != law.OPEN).any():
+            return z
+        z = z.copy()
+        col = 3 * self.m
+        for i, c in enumerate(self.cb):
+            nf, nc = self.nf[i], self.nc[i]
+            if nc:
+                need = (c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam)
+                for k_ in range(nc):
+                    if np.any(self.CY[i][k_] != 0.0):
+                        continue  # restrained by the body's own supports
+                    j = col + nf + k_
+                    s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
+                    if not np.any(s != 0.0):
+                        continue  # tangential: friction of the closed nodes holds it
+                    ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
+
+                    kn0, u0 = self.k(z, ell)[:, 2], float(z[j])
+
+                    def force(u, s=s, ct=ct, kn0=kn0, u0=u0):
+                        # k is affine in z: only U_k moves
+                        return float(ct @ np.maximum(0.0, -self.r * (kn0 + s * (u - u0))))
+
+                    target = float(need[k_])
+                    scale = max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max())
+                    bracket = None
+                    for sign in (1.0, -1.0):
+                        lo = z[j]
+                        for _ in range(80):
+                            hi = z[j] + sign * scale
+                            f = force(hi)
+                            if (f - target) * np.sign(target) >= 0 and f != 0.0:
+                                bracket = (lo, hi)
+                                break
+                            lo, scale = hi, 2.0 * scale
+                        if bracket:
+                            break
+                        scale = max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max())
+                    if bracket is None:
+                        continue
+                    lo, hi = bracket
+                    for _ in range(100):
+                        mid = 0.5 * (lo + hi)
+                        if (force(mid) - target) * np.sign(target) >= 0:
+                            hi = mid
+                        else:
+                            lo = mid
+                    z[j] = hi
+            col += nf + nc
+        return z
+
     def newton(self, z, ell, k_prev, opt: SolverOptions, report: Reporter | None = None,
                index: int = 0, total: int = 0):
         hist: list[float] = []
         steps: list[float] = []
+        z = self.first_touch(z, ell, k_prev)
         phi = self.residual(z, ell, k_prev)
         scale = max(np.abs(phi).max(initial=0.0), np.abs(z[: 3 * self.m]).max(initial=0.0), 1e-300)
         it = 0
@@ -885,10 +951,9 @@ class _InterfaceSystem:
                 if d.min() <= 1e-13 * d.max():
                     msg = (
                         "the Newton matrix is singular: a body is free to move (rigid motion "
-                        "not restrained by supports or by contact; a force-controlled body "
-                        "held only by the contact needs it closed at the start: approach "
-                        "under displacement control) or the contact surfaces do not face "
-                        "each other"
+                        "not restrained by supports or by contact, e.g. a force that pulls a "
+                        "body held only by the contact away from it) or the contact surfaces "
+                        "do not face each other"
                     )
                     break
                 dz[keep] = scipy.linalg.lu_solve(lu, rhs)

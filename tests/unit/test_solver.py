@@ -202,3 +202,47 @@ def test_watchdog_and_monotone_line_search_agree(cycle):
           "monotone", [s.iterations for s in mono.steps])
     with pytest.raises(bc.ConfigError, match=r"watchdog must be an integer >= 0, got -1"):
         bc.SolverOptions(watchdog=-1)
+
+
+@pytest.mark.parametrize("gap", [0.0, 0.01])
+def test_force_control_starts_from_an_open_contact(gap):
+    """The upper block under force control alone in z (held in x by
+    friction only), placed 0.01 above the lower one: every node open, the
+    Newton matrix singular in the platen's translation (this raised
+    before the first-touch predictor).  The predictor moves the platen
+    until a penalty patch carries P; Newton then converges to the solution
+    of the block placed in contact (gap 0, the reference's own set-up): the
+    same tractions to 1e-8 of the mean pressure, and a platen translation
+    larger by exactly the gap."""
+    def solve(g):
+        lower = bc.ElasticBody(bc.box((0, 0, 0), (2, 2, 2), 4), bc.LinearElastic(E, NU),
+                               {"zmin": bc.Fixed()}, name="lower")
+        upper = bc.ElasticBody(
+            bc.box((0, 0, 2 + g), (2, 2, 4 + g), 3), bc.LinearElastic(E, NU),
+            {"zmax": [bc.Force((0.0, None, -P)), bc.Displacement((None, 0.0, None))]}, name="upper",
+        )
+        pair = bc.ContactPair("zmax", "zmin", MU, search_distance=0.05)
+        return bc.ContactProblem(lower, upper, pair).solve()
+
+    ref = _problem().solve()
+    res = solve(gap)
+    assert res.converged and res.newton_iterations <= 10, res.newton_iterations
+    p_mean = P / 4.0
+    assert np.abs(res.frame.pressure - ref.frame.pressure).max() <= 1e-8 * p_mean
+    u, u_ref = (r.control_displacements["upper"]["zmax"][2] for r in (res, ref))
+    assert u - u_ref == pytest.approx(-gap, abs=1e-9)
+
+
+def test_force_pulling_a_floating_body_away_is_a_clear_error():
+    """The same block pulled up (+P) away from the contact that alone holds
+    it: the predictor finds no force balance and the solve stops at once
+    with the singular-matrix diagnosis, not after a search."""
+    lower = bc.ElasticBody(bc.box((0, 0, 0), (2, 2, 2), 4), bc.LinearElastic(E, NU),
+                           {"zmin": bc.Fixed()}, name="lower")
+    upper = bc.ElasticBody(
+        bc.box((0, 0, 2.01), (2, 2, 4.01), 3), bc.LinearElastic(E, NU),
+        {"zmax": [bc.Force((0.0, None, P)), bc.Displacement((None, 0.0, None))]}, name="upper",
+    )
+    prob = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", MU, search_distance=0.05))
+    with pytest.raises(bc.ConvergenceError, match="pulls a body held only by the contact away"):
+        prob.solve()
