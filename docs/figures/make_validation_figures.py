@@ -231,8 +231,8 @@ def fig_cattaneo_mindlin(out: pathlib.Path) -> pathlib.Path:
     return plot_radial_profile(
         s, out / "cattaneo_mindlin_traction.png", pressure=hz.pressure,
         traction=lambda x: ref.cattaneo_mindlin_traction(x, hz, Q[k], MU),
-        title=(f"Cattaneo–Mindlin, hemisphere on block, μ = {MU}, Q = {ratio:.2f} μP, tri3, "
-               f"h = 0.03 mm on the ring 0.39 ≤ r ≤ 0.50 mm, 0.05 mm elsewhere\n"
+        title=(f"Cattaneo–Mindlin, μ = {MU}, Q = {ratio:.2f} μP, tri3 ring mesh "
+               f"(0.03 mm on 0.39–0.50 mm, else 0.05)\n"
                f"stick radius {c:.3f} mm (analytic {c_exact:.3f}), $q_x$ L2 error (r < 0.9a) {l2:.1%}"),
     )
 
