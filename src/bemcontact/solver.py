@@ -677,6 +677,30 @@ class ContactProblem:
         return result
 
 
+def _balance(force, target: float, step: float) -> float | None:
+    """du with force(du) = target (to bisection accuracy, on the side that
+    reaches it) for a force(du) that is zero near du = 0 and grows
+    monotonically in magnitude in one direction (a penalty resultant):
+    doubling steps in each direction bracket it, then 100 bisections.
+    None when neither direction reaches ``target``."""
+    sign_t = np.sign(target)
+    for direction in (1.0, -1.0):
+        lo, h = 0.0, step
+        for _ in range(80):
+            hi = direction * h
+            f = force(hi)
+            if f != 0.0 and (f - target) * sign_t >= 0:
+                for _ in range(100):
+                    mid = 0.5 * (lo + hi)
+                    if (force(mid) - target) * sign_t >= 0:
+                        hi = mid
+                    else:
+                        lo = mid
+                return hi
+            lo, h = hi, 2.0 * h
+    return None
+
+
 class _InterfaceSystem:
     """The nonsmooth interface system of eq. 17 after condensing both bodies:
     unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2,
@@ -853,56 +877,31 @@ class _InterfaceSystem:
         returned unchanged when a node is already closed, or when no such
         translation moves the normal gaps (it is left to the error of the
         singular matrix)."""
-        lam, parts = self.split(z)
+        lam, _ = self.split(z)
         state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu, self.r, self.r)
         if (state != law.OPEN).any():
             return z
         z = z.copy()
+        kn0 = self.k(z, ell)[:, 2]
         col = 3 * self.m
         for i, c in enumerate(self.cb):
             nf, nc = self.nf[i], self.nc[i]
-            if nc:
-                need = (c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam)
-                for k_ in range(nc):
-                    if np.any(self.CY[i][k_] != 0.0):
-                        continue  # restrained by the body's own supports
-                    j = col + nf + k_
-                    s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
-                    if not np.any(s != 0.0):
-                        continue  # tangential: friction of the closed nodes holds it
-                    ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
-
-                    kn0, u0 = self.k(z, ell)[:, 2], float(z[j])
-
-                    def force(u, s=s, ct=ct, kn0=kn0, u0=u0):
-                        # k is affine in z: only U_k moves
-                        return float(ct @ np.maximum(0.0, -self.r * (kn0 + s * (u - u0))))
-
-                    target = float(need[k_])
-                    scale = max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max())
-                    bracket = None
-                    for sign in (1.0, -1.0):
-                        lo = z[j]
-                        for _ in range(80):
-                            hi = z[j] + sign * scale
-                            f = force(hi)
-                            if (f - target) * np.sign(target) >= 0 and f != 0.0:
-                                bracket = (lo, hi)
-                                break
-                            lo, scale = hi, 2.0 * scale
-                        if bracket:
-                            break
-                        scale = max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max())
-                    if bracket is None:
-                        continue
-                    lo, hi = bracket
-                    for _ in range(100):
-                        mid = 0.5 * (lo + hi)
-                        if (force(mid) - target) * np.sign(target) >= 0:
-                            hi = mid
-                        else:
-                            lo = mid
-                    z[j] = hi
+            need = c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam if nc else ()
+            for k_ in range(nc):
+                s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
+                if np.any(self.CY[i][k_] != 0.0) or not np.any(s != 0.0) or need[k_] == 0.0:
+                    # restrained by the body's own supports, or tangential (the
+                    # friction of the closed nodes holds it), or nothing to carry
+                    continue
+                ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
+                # k is affine in z: only U_k moves
+                u = _balance(
+                    lambda du, s=s, ct=ct: float(ct @ np.maximum(0.0, -self.r * (kn0 + s * du))),
+                    float(need[k_]), max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
+                )
+                if u is not None:
+                    z[col + nf + k_] += u
+                    kn0 = kn0 + s * u
             col += nf + nc
         return z
 
