@@ -84,12 +84,13 @@ def one_body(
     method: str = "auto",
     eps: float = 1e-7,
     threads: int | None = None,
+    leaf_size: int | None = None,
 ) -> dict:
-    """Solve the linear-field cube with about ``nodes`` functional nodes."""
+    """Solve the linear-field cube with about ``nodes`` functional nodes
+    (``leaf_size``: the H-matrix leaves, default HMatrixOptions')."""
     body, grad, sigma = linear_field_cube(nodes)
-    linear = LinearSolverOptions(
-        method=method, hmatrix=HMatrixOptions(eps=eps), tolerance=min(1e-10, eps * 1e-3)
-    )
+    hopt = HMatrixOptions(eps=eps) if leaf_size is None else HMatrixOptions(eps=eps, leaf_size=leaf_size)
+    linear = LinearSolverOptions(method=method, hmatrix=hopt, tolerance=min(1e-10, eps * 1e-3))
     t0 = time.perf_counter()
     sol = body.solve(threads=threads, linear=linear)
     total = time.perf_counter() - t0
@@ -121,6 +122,7 @@ def one_body(
         "dense_mb": 8.0 * (3 * N) ** 2 / 1e6,
         "mean_rank": info.get("mean_rank"),
         "eps": eps if hm else None,
+        "leaf_size": hopt.leaf_size if hm else None,
         "error": float(err),
         "normal_force": None,
         "threads": threads if threads is not None else _core.max_threads(),

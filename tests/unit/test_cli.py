@@ -180,11 +180,12 @@ def test_bench_one_body_writes_a_json_record(tmp_path, capsys):
 
     path = tmp_path / "one.json"
     assert main(["bench", "one-body", "--nodes", "400", "--method", "hmatrix", "--eps", "1e-7",
-                 "--threads", "2", "--json", str(path)]) == 0
+                 "--leaf", "24", "--threads", "2", "--json", str(path)]) == 0
     rec = json.loads(path.read_text())
     assert rec == json.loads(capsys.readouterr().out)
     # 6 n^2 + 36 n - 18 nodes with n = 6: 414
     assert rec["nodes"] == 414 and rec["unknowns"] == 3 * 414 and rec["method"] == "hmatrix"
+    assert rec["leaf_size"] == 24
     for key in ("assembly_s", "factor_s", "solve_s", "newton_s", "newton_iterations",
                 "peak_rss_mb", "compressed_mb", "dense_mb", "error", "normal_force", "threads",
                 "commit"):
