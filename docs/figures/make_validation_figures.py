@@ -126,11 +126,7 @@ def ring():
     """The Cattaneo–Mindlin solve of the validation test on the stick–slip
     ring mesh: P, the small step, 0.5 and 0.75 mu P (4 increments each)."""
     P = frictionless(SIZES[-1])[0].normal_force
-    steps = (
-        [bc.LoadStep(label="P")]
-        + cases.tangential_steps([SMALL * MU * P], increments=1, label="small")
-        + cases.tangential_steps([x * MU * P for x in RATIOS], increments=4)
-    )
+    steps = cases.cattaneo_mindlin_history(P, MU, SMALL, RATIOS, increments=4)
     setup = cases.STICK_SLIP_RING
     fine = min(h for _, h in setup.size_profile)
     return P, cases.sphere_on_block(fine, friction_coefficient=MU, setup=setup).solve(steps=steps)

@@ -201,6 +201,20 @@ def tangential_steps(
     ]
 
 
+def cattaneo_mindlin_history(
+    normal_force: float, mu: float, small: float, ratios, increments: int = 4
+) -> list[LoadStep]:
+    """The load steps of the Cattaneo–Mindlin validation on
+    :data:`STICK_SLIP_RING`: the normal approach (step ``P``), a small
+    all-stick tangential force ``small`` μP, then the forces ``ratios`` × μP
+    in ``increments`` increments each."""
+    return (
+        [LoadStep(label="P")]
+        + tangential_steps([small * mu * normal_force], increments=1, label="small")
+        + tangential_steps([x * mu * normal_force for x in ratios], increments=increments)
+    )
+
+
 def fretting_history(
     normal_force: float, mu: float, small: float, ratios, loop_increments: int
 ) -> tuple[list[LoadStep], float]:
@@ -449,6 +463,7 @@ __all__ = [
     "platen",
     "tangential_steps",
     "fretting_history",
+    "cattaneo_mindlin_history",
     "two_spheres",
     "STICK_SLIP_RING",
     "PunchOnBlock",

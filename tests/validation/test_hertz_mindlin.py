@@ -19,7 +19,6 @@ import pytest
 
 from bemcontact import cases
 from bemcontact.reference import contact as ref
-from bemcontact.solver import LoadStep
 
 pytestmark = pytest.mark.validation
 
@@ -128,11 +127,7 @@ RING_INCREMENTS = 4
 def ring(frictionless):
     P0 = frictionless[-1][1].normal_force
     ring = cases.STICK_SLIP_RING
-    steps = (
-        [LoadStep(label="P")]
-        + cases.tangential_steps([SMALL * MU * P0], increments=1, label="small")
-        + cases.tangential_steps([x * MU * P0 for x in RATIOS], increments=RING_INCREMENTS)
-    )
+    steps = cases.cattaneo_mindlin_history(P0, MU, SMALL, RATIOS, RING_INCREMENTS)
     fine = min(h for _, h in ring.size_profile)
     res = cases.sphere_on_block(fine, friction_coefficient=MU, setup=ring).solve(steps=steps)
     return P0, res
