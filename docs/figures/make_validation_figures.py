@@ -108,17 +108,12 @@ def frictional():
 
 @functools.lru_cache(maxsize=None)
 def punch(rim: float):
-    """(result, block compliance, corrected force error, profile L2) of the
-    Boussinesq set-up at rim size ``rim``."""
+    """(result, block compliance, Boussinesq errors) of the set-up at rim
+    size ``rim``."""
     problem = cases.punch_on_block(rim, PUNCH_DELTA, PUNCH)
     res = problem.solve()
     comp = cases.block_compliance(problem.bodies[0], PUNCH.radius)
-    F, a, es = res.normal_force, PUNCH.radius, PUNCH.contact_modulus
-    err = F / ref.boussinesq_punch_force(a, PUNCH_DELTA - comp.compliance * F, es) - 1.0
-    r, p, _, w, _ = cases.radial_profile(res.frame)
-    inner = r < 0.8 * a
-    l2 = cases.weighted_l2(p[inner], ref.boussinesq_punch_pressure(r[inner], a, F), w[inner])
-    return res, comp, err, l2
+    return res, comp, cases.boussinesq_errors(res, PUNCH, PUNCH_DELTA, comp)
 
 
 @functools.lru_cache(maxsize=None)
@@ -340,15 +335,15 @@ def fig_boussinesq(out: pathlib.Path) -> pathlib.Path:
     ax, ax2 = fig.subplots(1, 2)
     rows = []
     for rim in PUNCH_RIMS:
-        res, comp, err, l2 = punch(rim)
-        F = res.normal_force
-        raw = F / ref.boussinesq_punch_force(a, PUNCH_DELTA, PUNCH.contact_modulus) - 1.0
-        rows.append((rim, err, l2))
-        print(f"  rim {rim:g} a: F = {F:.3f} N, raw {raw:+.4f}, block compliance "
-              f"{comp.compliance:.4e} mm/N (spread {comp.spread:.1e}), corrected {err:+.4f}, "
-              f"profile L2 (r < 0.8a) {l2:.4f}, {res.newton_iterations} Newton it., "
+        res, comp, e = punch(rim)
+        rows.append((rim, e.force, e.profile_l2))
+        print(f"  rim {rim:g} a: F = {res.normal_force:.3f} N, raw {e.raw_force:+.4f}, block "
+              f"compliance {comp.compliance:.4e} mm/N (spread {comp.spread:.1e}), corrected "
+              f"{e.force:+.4f}, profile L2 (r < 0.8a) {e.profile_l2:.4f}, "
+              f"{res.newton_iterations} Newton it., "
               f"{res.timings['total']:.0f} s")
-    res, _, err, l2 = punch(PUNCH_RIMS[-1])
+    res, _, e = punch(PUNCH_RIMS[-1])
+    l2 = e.profile_l2
     r, p, _, _, state = cases.radial_profile(res.frame)
     under = r < a
     F = res.normal_force

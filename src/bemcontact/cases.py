@@ -25,7 +25,13 @@ from .body import Displacement, ElasticBody, Fixed, Force, Traction
 from .errors import ConfigError
 from .law import STICK
 from .material import LinearElastic
-from .reference.contact import Hertz, effective_modulus, tangential_compliance_factor
+from .reference.contact import (
+    Hertz,
+    boussinesq_punch_force,
+    boussinesq_punch_pressure,
+    effective_modulus,
+    tangential_compliance_factor,
+)
 from .results import FrameResult
 from .solver import ContactPair, ContactProblem, LoadStep
 
@@ -285,7 +291,7 @@ def punch_on_block(rim_size: float, indentation: float = 1.0e-3, setup: PunchOnB
     h, hc, g = float(rim_size), s.center_size, s.growth
     band = 2.0 * h
     knots = [(0.0, hc), (max(a - band - (hc - h) / g, 0.5 * (a - band)), hc), (a - band, h), (a + band, h)]
-    if knots[1][0] >= knots[2][0]:  # pragma: no cover - excluded by the rim_size check
+    if knots[1][0] >= knots[2][0]:  # rim_size == center_size: no inward ramp
         knots.pop(1)
     w, d = s.block_half_width, s.block_depth
     blk = geometry.graded_block(
@@ -416,6 +422,31 @@ def weighted_l2(values, exact, weights) -> float:
 
 
 @dataclass(frozen=True)
+class BoussinesqErrors:
+    """Relative errors of a :func:`punch_on_block` solve against Boussinesq
+    for the computed force F: the force against 2 a E* delta (``raw_force``)
+    and against 2 a E* (delta - c F), the indentation corrected by the
+    block's measured compliance c (``force``); the pressure profile's
+    weighted L2 error on r < 0.8 a (``profile_l2``)."""
+
+    raw_force: float
+    force: float
+    profile_l2: float
+
+
+def boussinesq_errors(result, setup: PunchOnBlock, indentation: float,
+                      compliance: BlockCompliance) -> BoussinesqErrors:
+    F, a, es = result.normal_force, setup.radius, setup.contact_modulus
+    r, p, _, w, _ = radial_profile(result.frame)
+    inner = r < 0.8 * a
+    return BoussinesqErrors(
+        raw_force=F / boussinesq_punch_force(a, indentation, es) - 1.0,
+        force=F / boussinesq_punch_force(a, indentation - compliance.compliance * F, es) - 1.0,
+        profile_l2=weighted_l2(p[inner], boussinesq_punch_pressure(r[inner], a, F), w[inner]),
+    )
+
+
+@dataclass(frozen=True)
 class HertzErrors:
     """Relative errors of a computed pressure field against Hertz for the
     computed force: contact radius (from a least-squares fit of
@@ -470,6 +501,8 @@ __all__ = [
     "punch_on_block",
     "BlockCompliance",
     "block_compliance",
+    "BoussinesqErrors",
+    "boussinesq_errors",
     "radial_profile",
     "platen_history",
     "tangential_approach",

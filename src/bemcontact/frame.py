@@ -458,15 +458,11 @@ class ContactFrame:
         self.size = np.sqrt(self._full_weights())
 
     def _full_weights(self) -> np.ndarray:
-        """(m,) ∫ N_j over all the frame surface's elements (flat corner
-        geometry: an element's area shared equally by its corners)."""
+        """(m,) the frame surface's element areas around each node, each
+        element's area shared equally by its corners."""
         sf = self._s[self.owner]
-        mesh = sf.disc.mesh
-        nc = CORNERS[mesh.element_type]
-        X = mesh.nodes[mesh.elements[sf.elements, :nc]]  # (m_e, nc, 3)
-        area = 0.5 * np.linalg.norm(np.cross(X[:, 1] - X[:, 0], X[:, 2] - X[:, 0]), axis=1)
-        if nc == 4:
-            area += 0.5 * np.linalg.norm(np.cross(X[:, 2] - X[:, 0], X[:, 3] - X[:, 0]), axis=1)
+        area = sf.disc.mesh.surface_quadrature(4, sf.elements).weights.sum(axis=1)
+        nc = self._fconn.shape[1]
         out = np.zeros(self.n_frame)
         np.add.at(out, self._fconn, np.repeat(area[:, None] / nc, nc, axis=1))
         return out

@@ -18,6 +18,8 @@ import os
 import tempfile
 from collections.abc import Callable
 
+import numpy as np
+
 from .errors import ConfigError, MeshError
 from .mesh import SurfaceMesh, read_mesh
 
@@ -262,9 +264,7 @@ def _profile_ramp(knots, coarse: float, growth: float) -> Callable[[float], floa
     def size(d: float) -> float:
         if d >= last_d:
             return min(coarse, last_h + growth * (d - last_d))
-        i = next(k for k in range(1, len(ds)) if d < ds[k])
-        t = (d - ds[i - 1]) / (ds[i] - ds[i - 1])
-        return hs[i - 1] + t * (hs[i] - hs[i - 1])
+        return float(np.interp(d, ds, hs))
 
     return size
 
