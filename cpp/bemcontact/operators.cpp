@@ -32,65 +32,209 @@ inline int regular_order(double R, const QuadratureParams& q) {
   return std::max(o, q.min_order);
 }
 
-// Kernel accumulation at one quadrature point y (normal ny, weight w*J,
-// functional basis phi).
-inline void accumulate(const double* x, const double* y, const double* ny, double wj,
-                       const double* phi, int n, int skip, const Kelvin& K, bool want_h,
-                       bool want_g, double* He, double* Ge) {
-  const double r0 = y[0] - x[0], r1 = y[1] - x[1], r2 = y[2] - x[2];
-  const double r = std::sqrt(r0 * r0 + r1 * r1 + r2 * r2);
-  const double ir = 1.0 / r;
-  const double d[3] = {r0 * ir, r1 * ir, r2 * ir};
+// Element integration, vectorized over quadrature points.  A point set is
+// stored as structure of arrays with stride `np` (its number of points): x, y,
+// z, nx, ny, nz, w*J, then the n basis values point by point (np x n).  The
+// kernels are reduced per point to kTerms scalars (Kelvin U: 1 isotropic + 6
+// symmetric dyadic terms; T: 1 isotropic + 6 symmetric + 3 antisymmetric),
+// accumulated against the basis values (a (kTerms x np) by (np x n) product,
+// n a compile-time constant for the usual element types), then expanded into
+// the 3 x 3n blocks.  Points are taken in chunks of kChunk.
+constexpr int kTerms = 17;
+constexpr size_t kChunk = 64;
+constexpr int kSoaFields = 7;
+
+// q[m * kChunk + i] for points p0 .. p0 + cnt - 1
+inline void point_terms(const double* c, size_t np, size_t p0, size_t cnt, const double* x,
+                        const Kelvin& K, bool want_h, bool want_g, double* q) {
+  const double* px = c + p0;
+  const double* py = c + np + p0;
+  const double* pz = c + 2 * np + p0;
+  const double* nx = c + 3 * np + p0;
+  const double* ny = c + 4 * np + p0;
+  const double* nz = c + 5 * np + p0;
+  const double* wj = c + 6 * np + p0;
+  const double x0 = x[0], x1 = x[1], x2 = x[2];
+  const double c1 = want_g ? K.c1 : 0.0, c2 = want_h ? K.c2 : 0.0, kb = K.b;
+#pragma omp simd
+  for (size_t p = 0; p < cnt; ++p) {
+    const double r0 = px[p] - x0, r1 = py[p] - x1, r2 = pz[p] - x2;
+    const double ir = 1.0 / std::sqrt(r0 * r0 + r1 * r1 + r2 * r2);
+    const double d0 = r0 * ir, d1 = r1 * ir, d2 = r2 * ir;
+    // G: U_ij = sg (a delta_ij + d_i d_j)
+    const double sg = c1 * ir * wj[p];
+    q[0 * kChunk + p] = sg;
+    q[1 * kChunk + p] = sg * d0 * d0;
+    q[2 * kChunk + p] = sg * d1 * d1;
+    q[3 * kChunk + p] = sg * d2 * d2;
+    q[4 * kChunk + p] = sg * d0 * d1;
+    q[5 * kChunk + p] = sg * d0 * d2;
+    q[6 * kChunk + p] = sg * d1 * d2;
+    // H: T_ij = sh (drdn (b delta_ij + 3 d_i d_j) - b (d_i n_j - d_j n_i))
+    const double sh = -c2 * ir * ir * wj[p];
+    const double drdn = d0 * nx[p] + d1 * ny[p] + d2 * nz[p];
+    const double s3 = 3.0 * sh * drdn;
+    const double sb = sh * kb;
+    q[7 * kChunk + p] = sb * drdn;
+    q[8 * kChunk + p] = s3 * d0 * d0;
+    q[9 * kChunk + p] = s3 * d1 * d1;
+    q[10 * kChunk + p] = s3 * d2 * d2;
+    q[11 * kChunk + p] = s3 * d0 * d1;
+    q[12 * kChunk + p] = s3 * d0 * d2;
+    q[13 * kChunk + p] = s3 * d1 * d2;
+    q[14 * kChunk + p] = -sb * (d0 * ny[p] - d1 * nx[p]);  // antisymmetric (0,1)
+    q[15 * kChunk + p] = -sb * (d0 * nz[p] - d2 * nx[p]);  // (0,2)
+    q[16 * kChunk + p] = -sb * (d1 * nz[p] - d2 * ny[p]);  // (1,2)
+  }
+}
+
+// acc (kTerms x n) += q (kTerms x cnt) * phi (cnt x n, row p contiguous):
+// point by point, a broadcast of q[m][p] times the n basis values.
+template <int N>
+inline void contract_terms(const double* q, const double* phi, size_t cnt, int n, double* acc) {
+  const int nn = N > 0 ? N : n;
+  for (size_t p = 0; p < cnt; ++p) {
+    const double* ph = phi + p * nn;
+    for (int m = 0; m < kTerms; ++m) {
+      const double qm = q[m * kChunk + p];
+#pragma omp simd
+      for (int k = 0; k < nn; ++k) acc[m * nn + k] += qm * ph[k];
+    }
+  }
+}
+
+// He/Ge += the blocks of acc; the H column of functional node `skip` (the
+// collocation point's own node, singular rule) is left alone.
+inline void expand_terms(const double* acc, int n, int skip, const Kelvin& K, bool want_h,
+                         bool want_g, double* He, double* Ge) {
   const int ld = 3 * n;
-  if (want_g) {
-    double U[3][3];
-    const double c = K.c1 * ir * wj;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) U[i][j] = c * ((i == j ? K.a : 0.0) + d[i] * d[j]);
-    for (int k = 0; k < n; ++k) {
-      const double p = phi[k];
+  // symmetric index pairs (i, j) -> term offset 0..5
+  static const int sym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
+  for (int k = 0; k < n; ++k) {
+    const double* a = acc;
+    if (want_g) {
+      const double iso = K.a * a[0 * n + k];
       for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) Ge[i * ld + 3 * k + j] += U[i][j] * p;
+        for (int j = 0; j < 3; ++j)
+          Ge[i * ld + 3 * k + j] += (i == j ? iso : 0.0) + a[(1 + sym[i][j]) * n + k];
+    }
+    if (want_h && k != skip) {
+      const double iso = a[7 * n + k];
+      const double an[3] = {a[14 * n + k], a[15 * n + k], a[16 * n + k]};
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          double v = (i == j ? iso : 0.0) + a[(8 + sym[i][j]) * n + k];
+          if (i < j) v += an[i + j - 1];
+          else if (i > j) v -= an[i + j - 1];
+          He[i * ld + 3 * k + j] += v;
+        }
     }
   }
-  if (want_h) {
-    double T[3][3];
-    const double drdn = d[0] * ny[0] + d[1] * ny[1] + d[2] * ny[2];
-    const double c = -K.c2 * ir * ir * wj;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j)
-        T[i][j] = c * (drdn * ((i == j ? K.b : 0.0) + 3.0 * d[i] * d[j]) -
-                       K.b * (d[i] * ny[j] - d[j] * ny[i]));
-    for (int k = 0; k < n; ++k) {
-      if (k == skip) continue;
-      const double p = phi[k];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) He[i * ld + 3 * k + j] += T[i][j] * p;
+}
+
+// Integrate the point set c (np points) of an element with n functional nodes.
+void integrate_points(const double* c, size_t np, int n, const double* x, int skip,
+                      const Kelvin& K, bool want_h, bool want_g, double* He, double* Ge) {
+  alignas(64) double q[kTerms * kChunk];
+  double acc[kTerms * kMaxNodes] = {};
+  const double* phi = c + kSoaFields * np;
+  for (size_t p0 = 0; p0 < np; p0 += kChunk) {
+    const size_t cnt = std::min(kChunk, np - p0);
+    point_terms(c, np, p0, cnt, x, K, want_h, want_g, q);
+    const double* ph = phi + p0 * n;
+    switch (n) {
+      case 3: contract_terms<3>(q, ph, cnt, 3, acc); break;
+      case 4: contract_terms<4>(q, ph, cnt, 4, acc); break;
+      case 6: contract_terms<6>(q, ph, cnt, 6, acc); break;
+      case 8: contract_terms<8>(q, ph, cnt, 8, acc); break;
+      case 9: contract_terms<9>(q, ph, cnt, 9, acc); break;
+      default: contract_terms<0>(q, ph, cnt, n, acc); break;
     }
   }
+  expand_terms(acc, n, skip, K, want_h, want_g, He, Ge);
+}
+
+// Monomial exponents by node count (3 tri3, 4 quad4, 6 tri6, 8 quad8, 9 quad9:
+// the count fixes the type), as in element.hpp.
+template <int N>
+inline void mono_at(double xi, double eta, double* m, double* mx, double* my) {
+  const auto* e = monomial_exponents(N == 3 ? TRI3 : N == 4 ? QUAD4 : N == 6 ? TRI6 : N == 8 ? QUAD8 : QUAD9);
+  const double px[3] = {1.0, xi, xi * xi}, py[3] = {1.0, eta, eta * eta};
+  for (int k = 0; k < N; ++k) {
+    const int a = e[k][0], b = e[k][1];
+    m[k] = px[a] * py[b];
+    if (mx) {
+      mx[k] = a == 0 ? 0.0 : a * px[a - 1] * py[b];
+      my[k] = b == 0 ? 0.0 : b * px[a] * py[b - 1];
+    }
+  }
+}
+
+template <int N>
+void map_rule_n(const Element& e, const Rule2D& rule, double* out) {
+  const size_t np = rule.size();
+  for (size_t p = 0; p < np; ++p) {
+    double m[N], mx[N], my[N];
+    mono_at<N>(rule.xi[p], rule.eta[p], m, mx, my);
+    double x[3] = {0, 0, 0}, a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+    for (int k = 0; k < N; ++k)
+      for (int d = 0; d < 3; ++d) {
+        x[d] += m[k] * e.gm[k][d];
+        a[d] += mx[k] * e.gm[k][d];
+        b[d] += my[k] * e.gm[k][d];
+      }
+    const double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                         a[0] * b[1] - a[1] * b[0]};
+    const double jac = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    const double inv = jac > 0 ? 1.0 / jac : 0.0;
+    for (int d = 0; d < 3; ++d) {
+      out[d * np + p] = x[d];
+      out[(3 + d) * np + p] = c[d] * inv;
+    }
+    out[6 * np + p] = rule.w[p] * jac;
+    double* phi = out + kSoaFields * np + p * N;
+    for (int k = 0; k < N; ++k) {
+      double s = 0.0;
+      for (int j = 0; j < N; ++j) s += m[j] * e.cf[j * N + k];
+      phi[k] = s;
+    }
+  }
+}
+
+// The point set of a local rule on element e, into `out` (see integrate_points).
+void map_rule(const Element& e, const Rule2D& rule, std::vector<double>& out) {
+  out.resize(rule.size() * (kSoaFields + e.n));
+  switch (e.n) {
+    case 3: map_rule_n<3>(e, rule, out.data()); break;
+    case 4: map_rule_n<4>(e, rule, out.data()); break;
+    case 6: map_rule_n<6>(e, rule, out.data()); break;
+    case 8: map_rule_n<8>(e, rule, out.data()); break;
+    default: map_rule_n<9>(e, rule, out.data()); break;
+  }
+}
+
+// Position only, from the monomial form.
+inline void map_position(const Element& e, double xi, double eta, double* x) {
+  double m[kMaxNodes];
+  eval_monomials(e.type, xi, eta, m, nullptr, nullptr);
+  x[0] = x[1] = x[2] = 0.0;
+  for (int k = 0; k < e.n; ++k)
+    for (int d = 0; d < 3; ++d) x[d] += m[k] * e.gm[k][d];
 }
 
 // Integrate with an explicit local rule (points in the element's reference domain).
 void integrate_rule(const Element& e, const Rule2D& rule, const double* x, int skip,
                     const Kelvin& K, bool want_h, bool want_g, double* He, double* Ge) {
-  double phi[kMaxNodes];
-  for (size_t p = 0; p < rule.size(); ++p) {
-    const SurfacePoint sp = map_point(e.type, e.X, rule.xi[p], rule.eta[p]);
-    eval_basis(e.type, e.cf, rule.xi[p], rule.eta[p], phi, nullptr, nullptr);
-    accumulate(x, sp.x, sp.n, rule.w[p] * sp.jac, phi, e.n, skip, K, want_h, want_g, He,
-               Ge);
-  }
+  thread_local std::vector<double> buf;
+  map_rule(e, rule, buf);
+  integrate_points(buf.data(), rule.size(), e.n, x, skip, K, want_h, want_g, He, Ge);
 }
 
 void integrate_cached(const Element& e, int order, const double* x, const Kelvin& K,
                       bool want_h, bool want_g, double* He, double* Ge) {
   const std::vector<double>& c = e.cache[order];
-  const int stride = 7 + e.n;
-  const size_t np = c.size() / stride;
-  for (size_t p = 0; p < np; ++p) {
-    const double* q = c.data() + p * stride;
-    accumulate(x, q, q + 3, q[6], q + 7, e.n, -1, K, want_h, want_g, He, Ge);
-  }
+  integrate_points(c.data(), c.size() / (kSoaFields + e.n), e.n, x, -1, K, want_h, want_g, He,
+                   Ge);
 }
 
 // A parametric sub-domain of an element: an axis-aligned rectangle (quads) or
@@ -117,8 +261,7 @@ void subdomain_geometry(const Element& e, const SubDomain& s, const double* x, d
         a = s.p[0][0] + (s.p[1][0] - s.p[0][0]) * i / 4.0;
         b = s.p[0][1] + (s.p[1][1] - s.p[0][1]) * j / 4.0;
       }
-      const SurfacePoint sp = map_point(e.type, e.X, a, b);
-      std::memcpy(pts[np++], sp.x, sizeof(sp.x));
+      map_position(e, a, b, pts[np++]);
     }
   dmin = INFINITY;
   diam = 0.0;
@@ -139,6 +282,11 @@ void integrate_adaptive(const Element& e, const SubDomain& s, const double* x, i
   const bool tri = is_triangle(e.type);
   if (order <= q.max_order || depth >= q.max_depth) {
     const int o = std::min(order, q.max_order);
+    if (depth == 0 && o < static_cast<int>(e.cache.size())) {
+      // the whole element: its cached rule holds the same points
+      integrate_cached(e, o, x, K, want_h, want_g, He, Ge);
+      return;
+    }
     scratch.xi.clear();
     scratch.eta.clear();
     scratch.w.clear();
@@ -259,6 +407,15 @@ std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, i
       e.fxi[k][1] = m.fxi[(ie * kMaxNodes + k) * 2 + 1];
     }
     lagrange_coefficients(e.type, e.fxi, e.cf);
+    {
+      const double* gc = geometric_bases().coeff[e.type];
+      for (int mo = 0; mo < e.n; ++mo)
+        for (int d = 0; d < 3; ++d) {
+          double v = 0.0;
+          for (int k = 0; k < e.n; ++k) v += gc[mo * e.n + k] * e.X[k][d];
+          e.gm[mo][d] = v;
+        }
+    }
     for (int d = 0; d < 3; ++d) {
       e.centroid[d] = 0.0;
       for (int k = 0; k < e.n; ++k) e.centroid[d] += e.X[k][d];
@@ -284,16 +441,7 @@ std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, i
       } else {
         append_rectangle_rule(r, o, -1, 1, -1, 1);
       }
-      std::vector<double>& c = e.cache[o];
-      c.resize(r.size() * (7 + e.n));
-      for (size_t p = 0; p < r.size(); ++p) {
-        double* out = c.data() + p * (7 + e.n);
-        const SurfacePoint sp = map_point(e.type, e.X, r.xi[p], r.eta[p]);
-        std::memcpy(out, sp.x, 3 * sizeof(double));
-        std::memcpy(out + 3, sp.n, 3 * sizeof(double));
-        out[6] = r.w[p] * sp.jac;
-        eval_basis(e.type, e.cf, r.xi[p], r.eta[p], out + 7, nullptr, nullptr);
-      }
+      map_rule(e, r, e.cache[o]);
     }
   }
   return els;

@@ -50,9 +50,10 @@ struct Element {
   int64_t f[kMaxNodes];
   double fxi[kMaxNodes][2];
   double cf[kMaxNodes * kMaxNodes];  // functional Lagrange coefficients
+  double gm[kMaxNodes][3];  // geometry in monomial form: x = sum_m mono_m(xi, eta) gm[m]
   double centroid[3], radius, diam;
-  // cached regular rules: per order o (index o), packed points
-  // [x(3), n(3), wJ, phi(n)] each.
+  // cached regular rules: per order o (index o), the mapped points as
+  // structure of arrays (x, y, z, nx, ny, nz, wJ; then phi, np x n).
   std::vector<std::vector<double>> cache;
 };
 
