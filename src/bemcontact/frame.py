@@ -50,47 +50,68 @@ from .mesh import CORNERS, REFERENCE_NODES
 from .operators import Discretization
 
 _LINEAR = {"tri": ("tri3", 0), "quad": ("quad4", 2)}
-_TYPE_CODE = {"tri3": 0, "tri6": 1, "quad4": 2, "quad8": 3, "quad9": 4}
-
-
-def _core():
-    from . import _core
-
-    return _core
 
 
 # --------------------------------------------------------------------------- geometry
 
 
+# Monomial exponents (p, q) of xi^p eta^q spanning each element's space (the
+# order of cpp/bemcontact/element.hpp).
+_MONOMIALS = {
+    "tri3": ((0, 0), (1, 0), (0, 1)),
+    "tri6": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2)),
+    "quad4": ((0, 0), (1, 0), (0, 1), (1, 1)),
+    "quad8": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2), (2, 1), (1, 2)),
+    "quad9": ((0, 0), (1, 0), (0, 1), (2, 0), (1, 1), (0, 2), (2, 1), (1, 2), (2, 2)),
+}
+
+
+def _monomials(etype: str, xi: np.ndarray):
+    """Monomials and their d/dxi, d/deta at ``xi`` (P, 2): each (P, k)."""
+    x, y = xi[:, 0], xi[:, 1]
+    one, zero = np.ones_like(x), np.zeros_like(x)
+    px, py = (one, x, x * x), (one, y, y * y)
+    dpx, dpy = (zero, one, 2 * x), (zero, one, 2 * y)
+    e = _MONOMIALS[etype]
+    M = np.stack([px[a] * py[b] for a, b in e], axis=1)
+    Mx = np.stack([dpx[a] * py[b] for a, b in e], axis=1)
+    My = np.stack([px[a] * dpy[b] for a, b in e], axis=1)
+    return M, Mx, My
+
+
 def _basis(etype: str, nodes_xi: np.ndarray, xi: np.ndarray):
-    """Lagrange basis (values, d/dxi, d/deta), each (P, 9), of element type
-    ``etype`` through local nodes ``nodes_xi`` (P, k, 2) at ``xi`` (P, 2)."""
-    P = xi.shape[0]
-    nx = np.zeros((P, 9, 2))
-    nx[:, : nodes_xi.shape[1]] = nodes_xi
-    t = np.full(P, _TYPE_CODE[etype], dtype=np.int32)
-    return _core().eval_basis(t, nx, np.ascontiguousarray(xi, dtype=float))
+    """Lagrange basis (values, d/dxi, d/deta), each (P, k), of element type
+    ``etype`` through local nodes ``nodes_xi`` ((k, 2) shared by all points,
+    or (P, k, 2) one set per point) at ``xi`` (P, 2)."""
+    e = _MONOMIALS[etype]
+    nodes_xi = np.asarray(nodes_xi, dtype=float)
+    # V[..., i, m] = monomial m at node i; basis_k = sum_m mono_m inv(V)[m, k]
+    V = np.stack([nodes_xi[..., 0] ** a * nodes_xi[..., 1] ** b for a, b in e], axis=-1)
+    C = np.linalg.inv(V)
+    M, Mx, My = _monomials(etype, np.asarray(xi, dtype=float))
+    if C.ndim == 2:
+        return M @ C, Mx @ C, My @ C
+    return (np.einsum("pm,pmk->pk", M, C), np.einsum("pm,pmk->pk", Mx, C),
+            np.einsum("pm,pmk->pk", My, C))
 
 
-def _geometry(disc: Discretization, elements: np.ndarray, xi: np.ndarray):
-    """x, dx/dxi, dx/deta (each (P, 3)) of the mesh map."""
+def _geometry(disc: Discretization, elements: np.ndarray, xi: np.ndarray, X: np.ndarray | None = None):
+    """x, dx/dxi, dx/deta (each (P, 3)) of the mesh map; ``X`` (P, k, 3), the
+    elements' node positions, may be passed when it is reused."""
     mesh = disc.mesh
-    k = mesh.elements.shape[1]
-    ref = np.broadcast_to(REFERENCE_NODES[mesh.element_type], (xi.shape[0], k, 2))
-    N, Nx, Ny = _basis(mesh.element_type, ref, xi)
-    X = mesh.nodes[mesh.elements[elements]]  # (P, k, 3)
-    return (
-        np.einsum("pk,pkd->pd", N[:, :k], X),
-        np.einsum("pk,pkd->pd", Nx[:, :k], X),
-        np.einsum("pk,pkd->pd", Ny[:, :k], X),
-    )
+    N, Nx, Ny = _basis(mesh.element_type, REFERENCE_NODES[mesh.element_type], xi)
+    if X is None:
+        X = mesh.nodes[mesh.elements[elements]]
+    # (P, 3, k) @ (P, k, 3) -> rows x, dx/dxi, dx/deta
+    out = np.matmul(np.stack([N, Nx, Ny], axis=1), X)
+    return out[:, 0], out[:, 1], out[:, 2]
 
 
 def _functional_basis(disc: Discretization, elements: np.ndarray, xi: np.ndarray) -> np.ndarray:
     """(P, k) functional basis of ``elements`` at ``xi``."""
     k = disc.mesh.elements.shape[1]
     N, _, _ = _basis(disc.mesh.element_type, disc.fxi[elements, :k], xi)
-    return N[:, :k]
+    return N
 
 
 def _inside(etype: str, xi: np.ndarray, tol: float) -> np.ndarray:
@@ -107,8 +128,9 @@ def _inverse_map(
     by T[p] (P, 3, 2) is the projection of z[p]."""
     etype = disc.mesh.element_type
     xi = np.tile(np.array([1 / 3, 1 / 3]) if etype.startswith("tri") else np.zeros(2), (len(z), 1))
+    X = disc.mesh.nodes[disc.mesh.elements[elements]]
     for _ in range(iters):
-        x, a, b = _geometry(disc, elements, xi)
+        x, a, b = _geometry(disc, elements, xi, X)
         r = np.einsum("pdi,pd->pi", T, x - z)
         J = np.stack([np.einsum("pdi,pd->pi", T, a), np.einsum("pdi,pd->pi", T, b)], axis=2)
         det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
@@ -433,7 +455,7 @@ class ContactFrame:
         ko, kt = mo.elements.shape[1], mt.elements.shape[1]
         phio = _functional_basis(do, Eo[fo], xo)
         phit = _functional_basis(dt, Et[ft], xt)
-        Nf, _, _ = _basis(self._linear, np.broadcast_to(self._ref, (len(xo),) + self._ref.shape), xo)
+        Nf, _, _ = _basis(self._linear, self._ref, xo)
         Nf = Nf[:, : self._ref.shape[0]]
         jf = self._fconn[fo]  # (P, nc)
         m = self.n_frame
@@ -495,7 +517,7 @@ class ContactFrame:
         el, xi, ok = self.projection[a]
         own = self._s[self.owner]
         pos = np.searchsorted(own.elements, el)
-        N, _, _ = _basis(self._linear, np.broadcast_to(self._ref, (len(xi),) + self._ref.shape), xi)
+        N, _, _ = _basis(self._linear, self._ref, xi)
         return self._fconn[pos], N[:, : self._ref.shape[0]], ok
 
     def offsets(self, a: int) -> np.ndarray:
