@@ -532,18 +532,32 @@ void assemble_system(const MeshView& m, const double* points, int64_t n_points,
   const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
   const Kelvin K(shear_modulus, nu);
   const int64_t ncol = 3 * n_points;
+  // Rows in chunks of kRowChunk points, so that the column-major A is written
+  // in runs of 3 kRowChunk consecutive entries per column (not one entry per
+  // cache line).
+  constexpr int64_t kRowChunk = 16;
+  const int64_t nchunks = (n_points + kRowChunk - 1) / kRowChunk;
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<double> Hrow(3 * ncol), Grow(3 * ncol);
-#pragma omp for schedule(dynamic, 4)
-    for (int64_t i = 0; i < n_points; ++i) {
-      influence_rows(els, i, points + 3 * i, K, q, ncol, Hrow.data(), Grow.data());
-      for (int r = 0; r < 3; ++r) {
+    std::vector<double> Hrow(3 * kRowChunk * ncol), Grow(3 * kRowChunk * ncol);
+#pragma omp for schedule(dynamic, 1)
+    for (int64_t ch = 0; ch < nchunks; ++ch) {
+      const int64_t i0 = ch * kRowChunk, i1 = std::min(n_points, i0 + kRowChunk);
+      const int64_t nr = 3 * (i1 - i0), row0 = 3 * i0;
+      for (int64_t i = i0; i < i1; ++i)
+        influence_rows(els, i, points + 3 * i, K, q, ncol, Hrow.data() + 3 * (i - i0) * ncol,
+                       Grow.data() + 3 * (i - i0) * ncol);
+      // A column-major (leading dimension lda): A[row, c]
+      for (int64_t c = 0; c < ncol; ++c) {
+        double* out = A + lda * c + row0;
+        const double* src = known_u[c] ? Grow.data() : Hrow.data();
+        const double sign = known_u[c] ? -1.0 : 1.0;
+        for (int64_t r = 0; r < nr; ++r) out[r] = sign * src[r * ncol + c];
+      }
+      for (int64_t r = 0; r < nr; ++r) {
         const double* h = Hrow.data() + r * ncol;
         const double* g = Grow.data() + r * ncol;
-        const int64_t row = 3 * i + r;
-        // A column-major (leading dimension lda): A[row, c]
-        for (int64_t c = 0; c < ncol; ++c) A[row + lda * c] = known_u[c] ? -g[c] : h[c];
+        const int64_t row = row0 + r;
         // B = G on traction-given columns, -H on displacement-given ones
         if (s > 0) {
           double* y = BW + row * s;
