@@ -40,7 +40,7 @@ void core_svd(double* a, int k, double* s, double* W, double* Zt, const Lapack& 
 }  // namespace
 
 void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
-                      int& k, double eps, const Lapack& lapack) {
+                      int& k, double eps, const Lapack& lapack, double abs_tol) {
   if (!lapack.ok() || k == 0) return;
   if (k > m || k > n) {
     // more columns than rows: QR would not reduce; compress through the
@@ -70,7 +70,8 @@ void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m,
     for (int64_t i = 0; i < r; ++i) total += sv[i] * sv[i];
     int64_t keep = r;
     double tail = 0.0;
-    while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= eps * std::sqrt(total)) {
+    const double tol = std::max(eps * std::sqrt(total), abs_tol);
+    while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= tol) {
       tail += sv[keep - 1] * sv[keep - 1];
       --keep;
     }
@@ -108,7 +109,8 @@ void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m,
   for (int i = 0; i < k; ++i) total += sv[i] * sv[i];
   int r = k;
   double tail = 0.0;
-  while (r > 0 && std::sqrt(tail + sv[r - 1] * sv[r - 1]) <= eps * std::sqrt(total)) {
+  const double tol = std::max(eps * std::sqrt(total), abs_tol);
+  while (r > 0 && std::sqrt(tail + sv[r - 1] * sv[r - 1]) <= tol) {
     tail += sv[r - 1] * sv[r - 1];
     --r;
   }

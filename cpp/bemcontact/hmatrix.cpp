@@ -118,6 +118,7 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
       if (s_) std::memcpy(&w_[(3 * p + c) * s_], W + (3 * perm_[p] + c) * s_, s_ * sizeof(double));
     }
   build_blocks(0, 0, hp.eta);
+  if (hp.global) estimate_norms(threads);
   // fill, largest blocks first (dynamic schedule balances the rest)
   std::vector<int64_t> order(blocks_.size());
   std::iota(order.begin(), order.end(), 0);
@@ -200,6 +201,56 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
   w_.shrink_to_fit();
   points_ = nullptr;
   build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Root-mean-square entries of H (with its rigid-body diagonal) and of G,
+// from the full rows of norm_samples nodes spread over the permuted order
+// (neighbouring nodes in it are neighbours in space).
+void HMatrix::estimate_norms(int threads) {
+  const int64_t ns = std::min<int64_t>(n_, std::max(hp_.norm_samples, 1));
+  const HCluster& root = clusters_[0];
+  std::vector<int64_t> all(els_.size());
+  std::iota(all.begin(), all.end(), 0);
+  std::vector<double> sh(ns, 0.0), sg(ns, 0.0);
+#pragma omp parallel num_threads(std::max(threads, 1))
+  {
+    std::vector<double> row(3 * 6 * n_);
+#pragma omp for schedule(dynamic, 1)
+    for (int64_t t = 0; t < ns; ++t) {
+      const int64_t p = (2 * t + 1) * n_ / (2 * ns);
+      node_rows(p, root, all, row.data());
+      const int64_t nc = 3 * n_;
+      double h2 = 0.0, g2 = 0.0;
+      for (int r = 0; r < 3; ++r) {
+        const double* h = &row[r * 6 * n_];
+        const double* g = h + nc;
+        double diag[3] = {0, 0, 0};
+        for (int64_t c = 0; c < nc; ++c) {
+          h2 += h[c] * h[c];
+          g2 += g[c] * g[c];
+          diag[c % 3] -= h[c];
+        }
+        for (int c = 0; c < 3; ++c) h2 += diag[c] * diag[c];
+      }
+      sh[t] = h2;
+      sg[t] = g2;
+    }
+  }
+  double h2 = 0.0, g2 = 0.0;
+  for (int64_t t = 0; t < ns; ++t) {
+    h2 += sh[t];
+    g2 += sg[t];
+  }
+  // (3 ns sampled rows) of (3N) entries each
+  const double entries = 3.0 * static_cast<double>(ns) * 3.0 * static_cast<double>(n_);
+  rms_h_ = std::sqrt(h2 / entries);
+  rms_g_ = std::sqrt(g2 / entries);
+}
+
+double HMatrix::block_budget(int64_t m, int64_t n, double scale) const {
+  if (!hp_.global) return 0.0;
+  return hp_.eps * std::sqrt(static_cast<double>(m) * static_cast<double>(n)) *
+         std::min(rms_h_, scale * rms_g_);
 }
 
 int HMatrix::build_cluster(int64_t begin, int64_t end, const std::vector<double>& sup_lo,
@@ -406,6 +457,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
   const HCluster& sig = clusters_[b.sigma];
   const int64_t m = 3 * tau.size(), nH = 3 * sig.size(), n = 2 * nH;
   const double scale = 2.0 * mu_ / std::max(center_dist(tau, sig), 1e-300);
+  const double budget_abs = block_budget(m, nH, scale);
   const std::vector<int64_t> elems = support_elements(sig);
   // node rows (3 x n) and node columns (m x 6) computed so far: one element
   // integration serves the three components (and H and G) at once
@@ -483,7 +535,8 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
     for (double& x : r) x /= piv;
     get_col(j, u);
     const double uu = dot(u.data(), u.data(), m), vv = dot(r.data(), r.data(), n);
-    if (norm2 > 0.0 && std::sqrt(uu * vv) <= hp_.eps * std::sqrt(norm2)) return false;
+    if (norm2 > 0.0 && std::sqrt(uu * vv) <= std::max(hp_.eps * std::sqrt(norm2), budget_abs))
+      return false;
     col_used[j] = 1;
     for (size_t l = 0; l < U.size(); ++l)
       norm2 += 2.0 * dot(U[l].data(), u.data(), m) * dot(V[l].data(), r.data(), n);
@@ -518,7 +571,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
         }
     } else {
       // converged?  check random unused node rows and node columns
-      const double budget = hp_.eps * std::sqrt(std::max(norm2, 0.0));
+      const double budget = std::max(hp_.eps * std::sqrt(std::max(norm2, 0.0)), budget_abs);
       for (int c = 0; c < hp_.checks && next < 0 && rounds < 8 * hp_.checks; ++c, ++rounds) {
         const int64_t rn =
             random_index(tau.size(), [&](int64_t t) { return !node_done[t]; });
@@ -590,7 +643,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
   for (int l = 0; l < k; ++l)
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] *= scale;
-  recompress(b, m, nH);
+  recompress(b, m, nH, budget_abs);
   for (int l = 0; l < b.rank; ++l)
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] /= scale;
@@ -599,12 +652,12 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
 // Truncation of U V^T to the block's own accuracy (truncate_lowrank, hlu.cpp).
 // Called inside the OpenMP build: a LAPACK failure (never seen) keeps the
 // block as it is rather than letting an exception leave the parallel region.
-void HMatrix::recompress(HBlock& b, int64_t m, int64_t n) const {
+void HMatrix::recompress(HBlock& b, int64_t m, int64_t n, double abs_tol) const {
   if (!lapack_.ok() || b.rank <= 0) return;
   std::vector<double> U = b.U, V = b.V;
   int k = b.rank;
   try {
-    truncate_lowrank(U, V, m, n, k, hp_.eps, lapack_);
+    truncate_lowrank(U, V, m, n, k, hp_.eps, lapack_, abs_tol);
   } catch (const std::exception&) {
     return;
   }

@@ -24,6 +24,13 @@ struct HParams {
   int leaf_size = 48;    // nodes per leaf cluster (at most)
   int max_rank = 0;      // 0: no cap
   int checks = 3;        // random residual rows/columns tested after ACA stops
+  // false: each low-rank block to eps of its own norm; true: to an absolute
+  // share of eps times the whole matrix's Frobenius norm (estimated from
+  // sampled rows), eps sqrt(m n) times the root-mean-square entry, so that
+  // the squared block errors sum to at most eps^2 ||[H, G]||_F^2 and blocks
+  // of small entries (far apart) keep a lower rank
+  bool global = false;
+  int norm_samples = 64;  // nodes whose rows estimate the norms (global)
 };
 
 // LAPACK routines (Fortran calling convention, 32-bit integers), taken from
@@ -87,6 +94,8 @@ class HMatrix {
   const std::vector<int64_t>& perm() const { return perm_; }  // permuted -> original node
   int64_t stored_doubles() const;
   double build_seconds() const { return build_s_; }
+  double rms_h() const { return rms_h_; }
+  double rms_g() const { return rms_g_; }
   // thread-seconds spent filling dense and low-rank blocks; element integrals
   // evaluated for node rows and node columns
   double dense_seconds() const { return dense_s_; }
@@ -112,7 +121,7 @@ class HMatrix {
   void fill_dense(HBlock& b, double* bw, double* rs) const;
   void fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const;
   // (truncation relative to the block norm; callers scale columns to one unit)
-  void recompress(HBlock& b, int64_t m, int64_t n) const;
+  void recompress(HBlock& b, int64_t m, int64_t n, double abs_tol = 0.0) const;
   std::vector<int64_t> support_elements(const HCluster& c) const;
 
   int64_t n_ = 0;
@@ -133,6 +142,11 @@ class HMatrix {
   std::vector<HBlock> blocks_;
   std::vector<double> diag_;  // rigid-body diagonal of H: (N x 3 x 3), permuted order
   std::vector<double> bw_;    // B W, original order
+  // root-mean-square entries of H and G (global truncation; 0 otherwise)
+  double rms_h_ = 0.0, rms_g_ = 0.0;
+  void estimate_norms(int threads);
+  // absolute error budget of a low-rank block of [H | s G] (0: relative only)
+  double block_budget(int64_t m, int64_t n, double scale) const;
   double build_s_ = 0.0;
   double dense_s_ = 0.0, aca_s_ = 0.0;
   mutable int64_t row_integrals_ = 0, col_integrals_ = 0;

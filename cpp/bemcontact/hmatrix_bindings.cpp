@@ -45,7 +45,9 @@ void bind_hmatrix(nb::module_& mod) {
       .def_rw("eta", &HParams::eta)
       .def_rw("leaf_size", &HParams::leaf_size)
       .def_rw("max_rank", &HParams::max_rank)
-      .def_rw("checks", &HParams::checks);
+      .def_rw("checks", &HParams::checks)
+      .def_rw("global_", &HParams::global)
+      .def_rw("norm_samples", &HParams::norm_samples);
 
   nb::class_<Lapack>(mod, "Lapack")
       .def(

@@ -466,6 +466,16 @@ void element_influence(const Element& e, const double* x, int local, const Kelvi
       integrate_cached(e, o, x, K, want_h, want_g, He, Ge);
       return;
     }
+    if (o <= q.max_order) {  // the whole element, a rule beyond the cache
+      if (is_triangle(e.type)) {
+        const double A[2] = {0, 0}, B[2] = {1, 0}, C[2] = {0, 1};
+        append_triangle_rule(rule, o, o, A, B, C);
+      } else {
+        append_rectangle_rule(rule, o, -1, 1, -1, 1);
+      }
+      integrate_rule(e, rule, x, -1, K, want_h, want_g, He, Ge);
+      return;
+    }
   }
   SubDomain root;
   if (is_triangle(e.type)) {

@@ -23,7 +23,7 @@ struct MeshView {
 // Regular rules of orders 1..kMaxCachedOrder are precomputed per element
 // (points, normals, weights x Jacobian, basis values); higher orders are
 // evaluated on the fly.
-constexpr int kMaxCachedOrder = 8;
+constexpr int kMaxCachedOrder = 4;
 
 struct QuadratureParams {
   double tolerance = 1e-8;   // target relative error of each regular integral

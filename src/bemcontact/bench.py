@@ -85,11 +85,13 @@ def one_body(
     eps: float = 1e-7,
     threads: int | None = None,
     leaf_size: int | None = None,
+    truncation: str | None = None,
 ) -> dict:
     """Solve the linear-field cube with about ``nodes`` functional nodes
-    (``leaf_size``: the H-matrix leaves, default HMatrixOptions')."""
+    (``leaf_size``, ``truncation``: the H-matrix's, default HMatrixOptions')."""
     body, grad, sigma = linear_field_cube(nodes)
-    hopt = HMatrixOptions(eps=eps) if leaf_size is None else HMatrixOptions(eps=eps, leaf_size=leaf_size)
+    given = {"leaf_size": leaf_size, "truncation": truncation}
+    hopt = HMatrixOptions(eps=eps, **{k: v for k, v in given.items() if v is not None})
     linear = LinearSolverOptions(method=method, hmatrix=hopt, tolerance=min(1e-10, eps * 1e-3))
     t0 = time.perf_counter()
     sol = body.solve(threads=threads, linear=linear)
@@ -123,6 +125,7 @@ def one_body(
         "mean_rank": info.get("mean_rank"),
         "eps": eps if hm else None,
         "leaf_size": hopt.leaf_size if hm else None,
+        "truncation": hopt.truncation if hm else None,
         "error": float(err),
         "normal_force": None,
         "threads": threads if threads is not None else _core.max_threads(),

@@ -3,7 +3,8 @@
     bemcontact run PROBLEM.toml --out DIR [--threads N] [--quiet] [--progress M] [--debug]
     bemcontact check PROBLEM.toml [--debug]
     bemcontact mesh-info MESH [--debug]
-    bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--leaf N] [--threads N]
+    bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--leaf N]
+                              [--truncation block|global] [--threads N]
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--method M] [--eps E]
                                [--json FILE]
     bemcontact --version
@@ -111,6 +112,8 @@ def _parser() -> argparse.ArgumentParser:
                      help="H-matrix block accuracy (default 1e-7)")
     one.add_argument("--leaf", metavar="N", type=_positive_int, default=None,
                      help="H-matrix leaf size in nodes (default: HMatrixOptions' own, 48)")
+    one.add_argument("--truncation", choices=("block", "global"), default=None,
+                     help="H-matrix truncation (default: HMatrixOptions' own)")
     one.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     one.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -278,7 +281,7 @@ def _bench(args: argparse.Namespace) -> int:
                 _error(f"--eps: must be in (0, 1), got {args.eps!r}")
                 return EXIT_INPUT
             record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads,
-                              leaf_size=args.leaf)
+                              leaf_size=args.leaf, truncation=args.truncation)
         else:
             if not (0 < args.eps < 1):
                 _error(f"--eps: must be in (0, 1), got {args.eps!r}")

@@ -72,6 +72,13 @@ class HMatrixOptions:
     checks:
         Random node rows and columns tested each time the cross approximation
         would stop.
+    truncation:
+        ``"block"``: every low-rank block to ``eps`` of its own norm.
+        ``"global"``: to an absolute budget, ``eps`` times the root-mean-square
+        entry of H (or G) times the square root of the block's size, so that
+        the squared block errors add up to at most ``eps² ‖H‖²_F`` (the norms
+        estimated from the full rows of a few sampled nodes before the build):
+        blocks of small entries, far from the diagonal, keep lower ranks.
     """
 
     eps: float = 1e-6
@@ -79,8 +86,13 @@ class HMatrixOptions:
     leaf_size: int = 48
     max_rank: int = 0
     checks: int = 3
+    truncation: str = "block"
 
     def __post_init__(self) -> None:
+        if self.truncation not in ("block", "global"):
+            raise ConfigError(
+                f"HMatrixOptions.truncation must be 'block' or 'global', got {self.truncation!r}"
+            )
         if not (isinstance(self.eps, (int, float)) and 0 < self.eps < 1):
             raise ConfigError(f"HMatrixOptions.eps must be in (0, 1), got {self.eps!r}")
         if not (isinstance(self.eta, (int, float)) and 0 < self.eta <= 10):
@@ -97,6 +109,7 @@ class HMatrixOptions:
         h.leaf_size = int(self.leaf_size)
         h.max_rank = int(self.max_rank)
         h.checks = int(self.checks)
+        h.global_ = self.truncation == "global"
         return h
 
 
