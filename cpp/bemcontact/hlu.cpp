@@ -549,8 +549,7 @@ std::unique_ptr<HNode> HLU::build(int tau, int sigma, const HMatrix& h,
     } else {
       node->kind = kRk;
       node->k = b.rank;
-      node->U = b.U;
-      node->V = b.V;
+      b.factors(node->U, node->V, node->m, node->n);
     }
     return node;
   }

@@ -644,9 +644,37 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] *= scale;
   recompress(b, m, nH, budget_abs);
+  // terms that may be rounded to single precision: the longest tail whose
+  // rounding error, about 2^-23 |u_l| |v_l| per term (on the balanced scale),
+  // stays within half the block's budget
+  b.kd = b.rank;
+  if (hp_.mixed && b.rank > 0) {
+    std::vector<double> c(b.rank);
+    double total = 0.0;
+    for (int l = 0; l < b.rank; ++l) {
+      const double uu = dot(&b.U[l * m], &b.U[l * m], m);
+      const double vv = dot(&b.V[l * nH], &b.V[l * nH], nH);
+      c[l] = uu * vv;
+      total += c[l];
+    }
+    const double allowed = 0.5 * std::max(hp_.eps * std::sqrt(total), budget_abs);
+    const double unit = std::ldexp(1.0, -23);
+    double tail = 0.0;
+    int kd = b.rank;
+    while (kd > 0 && unit * std::sqrt(tail + c[kd - 1]) <= allowed) tail += c[--kd];
+    b.kd = kd;
+  }
   for (int l = 0; l < b.rank; ++l)
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] /= scale;
+  if (b.kd < b.rank) {
+    b.Uf.assign(b.U.begin() + m * b.kd, b.U.end());
+    b.Vf.assign(b.V.begin() + nH * b.kd, b.V.end());
+    b.U.resize(m * b.kd);
+    b.V.resize(nH * b.kd);
+    b.U.shrink_to_fit();
+    b.V.shrink_to_fit();
+  }
 }
 
 // Truncation of U V^T to the block's own accuracy (truncate_lowrank, hlu.cpp).
@@ -664,6 +692,43 @@ void HMatrix::recompress(HBlock& b, int64_t m, int64_t n, double abs_tol) const 
   b.U.swap(U);
   b.V.swap(V);
   b.rank = k;
+}
+
+// y (mr x k) += U (V^T x): U mr x rk, V nc x rk (columns contiguous), double or float.
+template <class T>
+void lowrank_apply(const T* U, const T* V, int rk, int64_t mr, int64_t nc, const double* xs,
+                   double* yo, int64_t k, std::vector<double>& t) {
+  if (rk <= 0) return;
+  t.assign(rk * k, 0.0);
+  for (int l = 0; l < rk; ++l) {
+    const T* v = V + l * nc;
+    double* tl = t.data() + l * k;
+    if (k == 1) {
+      double s = 0.0;
+      for (int64_t c = 0; c < nc; ++c) s += static_cast<double>(v[c]) * xs[c];
+      tl[0] = s;
+      continue;
+    }
+    for (int64_t c = 0; c < nc; ++c) {
+      const double* xc = xs + c * k;
+      const double vc = v[c];
+      for (int64_t q = 0; q < k; ++q) tl[q] += vc * xc[q];
+    }
+  }
+  for (int l = 0; l < rk; ++l) {
+    const T* ul = U + l * mr;
+    const double* tl = t.data() + l * k;
+    if (k == 1) {
+      const double f = tl[0];
+      for (int64_t r = 0; r < mr; ++r) yo[r] += static_cast<double>(ul[r]) * f;
+      continue;
+    }
+    for (int64_t r = 0; r < mr; ++r) {
+      double* yr = yo + r * k;
+      const double f = ul[r];
+      for (int64_t q = 0; q < k; ++q) yr[q] += f * tl[q];
+    }
+  }
 }
 
 void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
@@ -693,7 +758,14 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
       const int64_t mr = 3 * tau.size(), nc = 3 * sig.size();
       const double* xs = xp.data() + 3 * sig.begin * k;
       double* yo = yt.data() + 3 * tau.begin * k;
-      if (B.rank < 0) {
+      if (B.rank < 0 && k == 1) {
+        for (int64_t r = 0; r < mr; ++r) {
+          const double* a = B.A.data() + r * nc;
+          double s = 0.0;
+          for (int64_t c = 0; c < nc; ++c) s += a[c] * xs[c];
+          yo[r] += s;
+        }
+      } else if (B.rank < 0) {
         for (int64_t r = 0; r < mr; ++r) {
           const double* a = B.A.data() + r * nc;
           double* yr = yo + r * k;
@@ -704,25 +776,8 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
           }
         }
       } else if (B.rank > 0) {
-        const int rk = B.rank;
-        t.assign(rk * k, 0.0);
-        for (int l = 0; l < rk; ++l) {
-          const double* v = B.V.data() + l * nc;
-          double* tl = t.data() + l * k;
-          for (int64_t c = 0; c < nc; ++c) {
-            const double* xc = xs + c * k;
-            for (int64_t q = 0; q < k; ++q) tl[q] += v[c] * xc[q];
-          }
-        }
-        for (int l = 0; l < rk; ++l) {
-          const double* ul = B.U.data() + l * mr;
-          const double* tl = t.data() + l * k;
-          for (int64_t r = 0; r < mr; ++r) {
-            double* yr = yo + r * k;
-            const double f = ul[r];
-            for (int64_t q = 0; q < k; ++q) yr[q] += f * tl[q];
-          }
-        }
+        lowrank_apply(B.U.data(), B.V.data(), B.kd, mr, nc, xs, yo, k, t);
+        lowrank_apply(B.Uf.data(), B.Vf.data(), B.rank - B.kd, mr, nc, xs, yo, k, t);
       }
     }
   }
@@ -796,9 +851,9 @@ void HMatrix::g_columns(const int64_t* cols, int64_t nc, double* out, int thread
   }
 }
 
-int64_t HMatrix::stored_doubles() const {
+int64_t HMatrix::stored_bytes() const {
   int64_t s = 0;
-  for (const HBlock& b : blocks_) s += b.A.size() + b.U.size() + b.V.size();
+  for (const HBlock& b : blocks_) s += b.stored_bytes();
   return s;
 }
 

@@ -30,6 +30,9 @@ struct HParams {
   // the squared block errors sum to at most eps^2 ||[H, G]||_F^2 and blocks
   // of small entries (far apart) keep a lower rank
   bool global = false;
+  // store the trailing terms of low-rank blocks in single precision where
+  // their rounding (2^-24 relative) costs at most half the block's budget
+  bool mixed = false;
   int norm_samples = 64;  // nodes whose rows estimate the norms (global)
 };
 
@@ -59,10 +62,25 @@ struct HBlock {
   int tau = 0, sigma = 0;  // row and column clusters
   int rank = -1;           // -1: dense
   // dense: A row-major (3|tau|) x (3|sigma|); low rank: U (3|tau| x k),
-  // V (3|sigma| x k), column l contiguous, block = U V^T.
+  // V (3|sigma| x k), column l contiguous, block = U V^T.  Mixed precision:
+  // the first kd terms in double (U, V), the trailing rank - kd terms, whose
+  // single-precision rounding fits the block's error budget, in float (Uf, Vf).
   std::vector<double> A, U, V;
+  std::vector<float> Uf, Vf;
+  int kd = 0;
   int aca_rank = 0;  // rank found by ACA on [H | s G] (before recompression)
   int aca_checks_failed = 0;
+  // all rank terms in double: U (m x rank), V (n x rank)
+  void factors(std::vector<double>& u, std::vector<double>& v, int64_t m, int64_t n) const {
+    u.assign(U.begin(), U.begin() + m * kd);
+    v.assign(V.begin(), V.begin() + n * kd);
+    u.insert(u.end(), Uf.begin(), Uf.end());
+    v.insert(v.end(), Vf.begin(), Vf.end());
+  }
+  int64_t stored_bytes() const {
+    return static_cast<int64_t>(sizeof(double) * (A.size() + U.size() + V.size()) +
+                                sizeof(float) * (Uf.size() + Vf.size()));
+  }
 };
 
 class HMatrix {
@@ -92,7 +110,7 @@ class HMatrix {
   const std::vector<HCluster>& clusters() const { return clusters_; }
   const std::vector<HBlock>& blocks() const { return blocks_; }
   const std::vector<int64_t>& perm() const { return perm_; }  // permuted -> original node
-  int64_t stored_doubles() const;
+  int64_t stored_bytes() const;
   double build_seconds() const { return build_s_; }
   double rms_h() const { return rms_h_; }
   double rms_g() const { return rms_g_; }

@@ -47,6 +47,7 @@ void bind_hmatrix(nb::module_& mod) {
       .def_rw("max_rank", &HParams::max_rank)
       .def_rw("checks", &HParams::checks)
       .def_rw("global_", &HParams::global)
+      .def_rw("mixed", &HParams::mixed)
       .def_rw("norm_samples", &HParams::norm_samples);
 
   nb::class_<Lapack>(mod, "Lapack")
@@ -101,7 +102,7 @@ void bind_hmatrix(nb::module_& mod) {
           nb::arg("points"), nb::arg("shear_modulus"), nb::arg("nu"), nb::arg("q"),
           nb::arg("hp"), nb::arg("known_u"), nb::arg("W"), nb::arg("lapack"), nb::arg("threads"))
       .def_prop_ro("n_points", &HMatrix::n_points)
-      .def_prop_ro("stored_doubles", &HMatrix::stored_doubles)
+      .def_prop_ro("stored_bytes", &HMatrix::stored_bytes)
       .def_prop_ro("build_seconds", &HMatrix::build_seconds)
       .def_prop_ro("dense_seconds", &HMatrix::dense_seconds)
       .def_prop_ro("aca_seconds", &HMatrix::aca_seconds)
@@ -161,11 +162,12 @@ void bind_hmatrix(nb::module_& mod) {
             const auto& C = h.clusters();
             const size_t m = 3 * C[b.tau].size(), n = 3 * C[b.sigma].size();
             if (b.rank < 0) return owned_copy(b.A.data(), {m, n});
-            std::vector<double> A(m * n, 0.0);
+            std::vector<double> A(m * n, 0.0), U, V;
+            b.factors(U, V, m, n);
             for (int l = 0; l < b.rank; ++l)
               for (size_t r = 0; r < m; ++r) {
-                const double u = b.U[l * m + r];
-                for (size_t c = 0; c < n; ++c) A[r * n + c] += u * b.V[l * n + c];
+                const double u = U[l * m + r];
+                for (size_t c = 0; c < n; ++c) A[r * n + c] += u * V[l * n + c];
               }
             return owned_copy(A.data(), {m, n});
           },

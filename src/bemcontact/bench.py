@@ -86,11 +86,13 @@ def one_body(
     threads: int | None = None,
     leaf_size: int | None = None,
     truncation: str | None = None,
+    storage: str | None = None,
 ) -> dict:
     """Solve the linear-field cube with about ``nodes`` functional nodes
-    (``leaf_size``, ``truncation``: the H-matrix's, default HMatrixOptions')."""
+    (``leaf_size``, ``truncation``, ``storage``: the H-matrix's, default
+    HMatrixOptions')."""
     body, grad, sigma = linear_field_cube(nodes)
-    given = {"leaf_size": leaf_size, "truncation": truncation}
+    given = {"leaf_size": leaf_size, "truncation": truncation, "storage": storage}
     hopt = HMatrixOptions(eps=eps, **{k: v for k, v in given.items() if v is not None})
     linear = LinearSolverOptions(method=method, hmatrix=hopt, tolerance=min(1e-10, eps * 1e-3))
     t0 = time.perf_counter()
@@ -126,6 +128,7 @@ def one_body(
         "eps": eps if hm else None,
         "leaf_size": hopt.leaf_size if hm else None,
         "truncation": hopt.truncation if hm else None,
+        "storage": hopt.storage if hm else None,
         "error": float(err),
         "normal_force": None,
         "threads": threads if threads is not None else _core.max_threads(),

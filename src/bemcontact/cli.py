@@ -4,7 +4,7 @@
     bemcontact check PROBLEM.toml [--debug]
     bemcontact mesh-info MESH [--debug]
     bemcontact bench one-body --nodes N [--json FILE] [--method M] [--eps E] [--leaf N]
-                              [--truncation block|global] [--threads N]
+                              [--truncation block|global] [--storage double|mixed] [--threads N]
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--method M] [--eps E]
                                [--json FILE]
     bemcontact --version
@@ -114,6 +114,8 @@ def _parser() -> argparse.ArgumentParser:
                      help="H-matrix leaf size in nodes (default: HMatrixOptions' own, 48)")
     one.add_argument("--truncation", choices=("block", "global"), default=None,
                      help="H-matrix truncation (default: HMatrixOptions' own)")
+    one.add_argument("--storage", choices=("double", "mixed"), default=None,
+                     help="H-matrix low-rank storage (default: HMatrixOptions' own)")
     one.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     one.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -281,7 +283,8 @@ def _bench(args: argparse.Namespace) -> int:
                 _error(f"--eps: must be in (0, 1), got {args.eps!r}")
                 return EXIT_INPUT
             record = one_body(args.nodes, method=args.method, eps=args.eps, threads=args.threads,
-                              leaf_size=args.leaf, truncation=args.truncation)
+                              leaf_size=args.leaf, truncation=args.truncation,
+                              storage=args.storage)
         else:
             if not (0 < args.eps < 1):
                 _error(f"--eps: must be in (0, 1), got {args.eps!r}")

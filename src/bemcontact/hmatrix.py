@@ -79,6 +79,13 @@ class HMatrixOptions:
         the squared block errors add up to at most ``eps² ‖H‖²_F`` (the norms
         estimated from the full rows of a few sampled nodes before the build):
         blocks of small entries, far from the diagonal, keep lower ranks.
+    storage:
+        ``"double"``: low-rank factors in double precision.  ``"mixed"``: the
+        trailing terms of each low-rank block (small singular values) in
+        single precision, as many as keep their rounding error (about 2⁻²³ of
+        each term's norm) within half the block's truncation budget; the
+        leading terms stay in double.  About half the memory of the low-rank
+        blocks, at most 1.5 ``eps`` per block in place of ``eps``.
     """
 
     eps: float = 1e-6
@@ -87,8 +94,13 @@ class HMatrixOptions:
     max_rank: int = 0
     checks: int = 3
     truncation: str = "block"
+    storage: str = "double"
 
     def __post_init__(self) -> None:
+        if self.storage not in ("double", "mixed"):
+            raise ConfigError(
+                f"HMatrixOptions.storage must be 'double' or 'mixed', got {self.storage!r}"
+            )
         if self.truncation not in ("block", "global"):
             raise ConfigError(
                 f"HMatrixOptions.truncation must be 'block' or 'global', got {self.truncation!r}"
@@ -110,6 +122,7 @@ class HMatrixOptions:
         h.max_rank = int(self.max_rank)
         h.checks = int(self.checks)
         h.global_ = self.truncation == "global"
+        h.mixed = self.storage == "mixed"
         return h
 
 
@@ -251,7 +264,7 @@ class CompressedSystem:
     @property
     def stored_bytes(self) -> int:
         """Bytes held by the blocks of A."""
-        return 8 * int(self._h.stored_doubles)
+        return int(self._h.stored_bytes)
 
     @property
     def dense_bytes(self) -> int:
