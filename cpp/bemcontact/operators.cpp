@@ -22,14 +22,25 @@ inline double dist(const double* a, const double* b) {
 // the Gauss error decays like rho^(-2n), rho the Bernstein ellipse parameter
 // of a singularity at distance 2R (in half-lengths) from the interval.
 inline int regular_order(double R, const QuadratureParams& q) {
-  if (R <= 0.0) return q.max_order + 1;
-  const double beta = 2.0 * R;
-  const double rho = beta + std::sqrt(beta * beta + 1.0);
-  const double n = std::log(1.0 / q.tolerance) / (2.0 * std::log(rho)) + 1.0;
-  // (a tiny R gives a huge n: cap before converting, int overflow would wrap)
-  if (!(n < q.max_order + 1.0)) return q.max_order + 1;
-  int o = static_cast<int>(std::ceil(n));
-  return std::max(o, q.min_order);
+  // order <= o  <=>  n <= o  <=>  rho >= rho_o = exp(log(1/tol) / (2 (o - 1)))
+  // <=>  R >= R_o = (rho_o - 1/rho_o) / 4: thresholds computed once per thread
+  // and settings (this runs for every element-point pair)
+  thread_local double tol = -1.0;
+  thread_local int lo = -1, hi = -1;
+  thread_local double thr[kMaxGaussOrder + 2];
+  if (q.tolerance != tol || q.min_order != lo || q.max_order != hi) {
+    tol = q.tolerance;
+    lo = q.min_order;
+    hi = q.max_order;
+    for (int o = 2; o <= std::min(hi, kMaxGaussOrder); ++o) {
+      const double rho = std::exp(std::log(1.0 / tol) / (2.0 * (o - 1)));
+      thr[o] = 0.25 * (rho - 1.0 / rho);
+    }
+  }
+  if (!(R > 0.0)) return hi + 1;
+  for (int o = std::max(lo, 2); o <= std::min(hi, kMaxGaussOrder); ++o)
+    if (R >= thr[o]) return o;
+  return hi + 1;
 }
 
 // Element integration, vectorized over quadrature points.  A point set is
