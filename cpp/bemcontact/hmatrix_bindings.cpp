@@ -103,6 +103,8 @@ void bind_hmatrix(nb::module_& mod) {
           nb::arg("hp"), nb::arg("known_u"), nb::arg("W"), nb::arg("lapack"), nb::arg("threads"))
       .def_prop_ro("n_points", &HMatrix::n_points)
       .def_prop_ro("stored_bytes", &HMatrix::stored_bytes)
+      .def("rms_h", &HMatrix::rms_h, "root-mean-square entry of H (global truncation; else 0)")
+      .def("rms_g", &HMatrix::rms_g, "root-mean-square entry of G (global truncation; else 0)")
       .def_prop_ro("build_seconds", &HMatrix::build_seconds)
       .def_prop_ro("dense_seconds", &HMatrix::dense_seconds)
       .def_prop_ro("aca_seconds", &HMatrix::aca_seconds)

@@ -94,7 +94,7 @@ class HMatrixOptions:
     max_rank: int = 0
     checks: int = 3
     truncation: str = "block"
-    storage: str = "double"
+    storage: str = "mixed"
 
     def __post_init__(self) -> None:
         if self.storage not in ("double", "mixed"):

@@ -449,7 +449,7 @@ class _Reader:
     def linear(self, value: Any) -> LinearSolverOptions:
         key = schema.LINEAR
         f = self.fields("solver.linear", self.table("solver.linear", value, key), key)
-        h = HMatrixOptions(eps=f.pop("eps"), eta=f.pop("eta"), leaf_size=f.pop("leaf_size"))
+        h = HMatrixOptions(**{k: f.pop(k) for k in schema.HMATRIX_KEYS})
         return LinearSolverOptions(hmatrix=h, **f)
 
     def body_name(self, i: int, b: dict) -> str:

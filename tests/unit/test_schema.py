@@ -73,7 +73,7 @@ def test_linear_defaults_are_the_condensation_s_own():
     lin = bc.SolverOptions().linear  # the condensation's defaults
     h = lin.hmatrix
     for k in schema.LINEAR.keys:
-        owner = h if k.name in ("eps", "eta", "leaf_size") else lin
+        owner = h if k.name in schema.HMATRIX_KEYS else lin
         assert getattr(owner, k.name) == k.default, k.name
 
 
