@@ -647,10 +647,12 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] *= scale;
   recompress(b, m, nH, budget_abs);
-  // terms that may be rounded to single precision: the longest tail whose
-  // rounding error, about 2^-23 |u_l| |v_l| per term (on the balanced scale),
-  // stays within half the block's budget
+  // terms that may be rounded: the longest tail whose rounding error, about
+  // 2 u |u_l| |v_l| per term (u the unit roundoff; on the balanced scale),
+  // stays within a quarter of the block's budget goes to half precision, the
+  // next longest within another quarter to single
   b.kd = b.rank;
+  b.kf = 0;
   if (hp_.mixed && b.rank > 0) {
     std::vector<double> c(b.rank);
     double total = 0.0;
@@ -660,25 +662,47 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
       c[l] = uu * vv;
       total += c[l];
     }
-    const double allowed = 0.5 * std::max(hp_.eps * std::sqrt(total), budget_abs);
-    const double unit = std::ldexp(1.0, -23);
-    double tail = 0.0;
-    int kd = b.rank;
-    while (kd > 0 && unit * std::sqrt(tail + c[kd - 1]) <= allowed) tail += c[--kd];
-    b.kd = kd;
+    const double allowed = 0.25 * std::max(hp_.eps * std::sqrt(total), budget_abs);
+    auto tail_start = [&](int end, double unit) {
+      double tail = 0.0;
+      int k = end;
+      while (k > 0 && unit * std::sqrt(tail + c[k - 1]) <= allowed) tail += c[--k];
+      return k;
+    };
+    const int kh0 = tail_start(b.rank, std::ldexp(1.0, -10));
+    b.kd = tail_start(kh0, std::ldexp(1.0, -23));
+    b.kf = kh0 - b.kd;
   }
   for (int l = 0; l < b.rank; ++l)
     for (int64_t c = 0; c < nH; ++c)
       if (ku[c]) b.V[l * nH + c] /= scale;
   if (b.kd < b.rank) {
-    b.Uf.assign(b.U.begin() + m * b.kd, b.U.end());
-    b.Vf.assign(b.V.begin() + nH * b.kd, b.V.end());
+    const int kh0 = b.kd + b.kf;
+    b.Uf.assign(b.U.begin() + m * b.kd, b.U.begin() + m * kh0);
+    b.Vf.assign(b.V.begin() + nH * b.kd, b.V.begin() + nH * kh0);
+    b.Uh.resize(m * b.kh());
+    b.Vh.resize(nH * b.kh());
+    b.sh.resize(2 * b.kh());
+    for (int l = kh0; l < b.rank; ++l) {
+      const int t = l - kh0;
+      for (int side = 0; side < 2; ++side) {
+        const int64_t len = side ? nH : m;
+        const double* src = (side ? b.V.data() : b.U.data()) + l * len;
+        half* dst = (side ? b.Vh.data() : b.Uh.data()) + t * len;
+        double mx = 0.0;
+        for (int64_t i = 0; i < len; ++i) mx = std::max(mx, std::fabs(src[i]));
+        const double sc = mx > 0.0 ? mx : 1.0;
+        for (int64_t i = 0; i < len; ++i) dst[i] = to_half(src[i] / sc);
+        b.sh[2 * t + side] = sc;
+      }
+    }
     b.U.resize(m * b.kd);
     b.V.resize(nH * b.kd);
     b.U.shrink_to_fit();
     b.V.shrink_to_fit();
   }
 }
+
 
 // Truncation of U V^T to the block's own accuracy (truncate_lowrank, hlu.cpp).
 // Called inside the OpenMP build: a LAPACK failure (never seen) keeps the
@@ -698,9 +722,12 @@ void HMatrix::recompress(HBlock& b, int64_t m, int64_t n, double abs_tol) const 
 }
 
 // y (mr x k) += U (V^T x): U mr x rk, V nc x rk (columns contiguous), double or float.
+// scales: per term (u-scale, v-scale) multiplying U's and V's column (half
+// precision), or null
 template <class T>
 void lowrank_apply(const T* U, const T* V, int rk, int64_t mr, int64_t nc, const double* xs,
-                   double* yo, int64_t k, std::vector<double>& t) {
+                   double* yo, int64_t k, std::vector<double>& t,
+                   const double* scales = nullptr) {
   if (rk <= 0) return;
   t.assign(rk * k, 0.0);
   for (int l = 0; l < rk; ++l) {
@@ -718,6 +745,9 @@ void lowrank_apply(const T* U, const T* V, int rk, int64_t mr, int64_t nc, const
       for (int64_t q = 0; q < k; ++q) tl[q] += vc * xc[q];
     }
   }
+  if (scales)
+    for (int l = 0; l < rk; ++l)
+      for (int64_t q = 0; q < k; ++q) t[l * k + q] *= scales[2 * l] * scales[2 * l + 1];
   for (int l = 0; l < rk; ++l) {
     const T* ul = U + l * mr;
     const double* tl = t.data() + l * k;
@@ -753,6 +783,7 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
     std::vector<double>& yt = acc[tid];
     yt.assign(n3 * k, 0.0);
     std::vector<double> t;
+    std::vector<float> uf, vf;
 #pragma omp for schedule(dynamic, 4)
     for (int64_t bi = 0; bi < nb; ++bi) {
       const HBlock& B = blocks_[bi];
@@ -780,7 +811,15 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
         }
       } else if (B.rank > 0) {
         lowrank_apply(B.U.data(), B.V.data(), B.kd, mr, nc, xs, yo, k, t);
-        lowrank_apply(B.Uf.data(), B.Vf.data(), B.rank - B.kd, mr, nc, xs, yo, k, t);
+        lowrank_apply(B.Uf.data(), B.Vf.data(), B.kf, mr, nc, xs, yo, k, t);
+        if (B.kh() > 0) {
+          // half -> float in bulk (vectorized conversions), then the float path
+          uf.resize(B.Uh.size());
+          vf.resize(B.Vh.size());
+          for (size_t i = 0; i < uf.size(); ++i) uf[i] = static_cast<float>(B.Uh[i]);
+          for (size_t i = 0; i < vf.size(); ++i) vf[i] = static_cast<float>(B.Vh[i]);
+          lowrank_apply(uf.data(), vf.data(), B.kh(), mr, nc, xs, yo, k, t, B.sh.data());
+        }
       }
     }
   }

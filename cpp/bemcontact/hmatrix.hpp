@@ -30,8 +30,9 @@ struct HParams {
   // the squared block errors sum to at most eps^2 ||[H, G]||_F^2 and blocks
   // of small entries (far apart) keep a lower rank
   bool global = false;
-  // store the trailing terms of low-rank blocks in single precision where
-  // their rounding (2^-24 relative) costs at most half the block's budget
+  // store the trailing terms of low-rank blocks in single (2^-24) and half
+  // (2^-11 relative rounding) precision where their rounding costs at most
+  // half the block's budget
   bool mixed = false;
   int norm_samples = 64;  // nodes whose rows estimate the norms (global)
 };
@@ -58,28 +59,46 @@ struct HCluster {
   int64_t size() const { return end - begin; }
 };
 
+using half = _Float16;
+// (through float: half <-> float is one instruction with F16C; the hot
+// product converts whole columns to float first, hmatrix.cpp apply)
+inline double to_double(half x) { return static_cast<double>(static_cast<float>(x)); }
+inline half to_half(double x) { return static_cast<half>(static_cast<float>(x)); }
+
 struct HBlock {
   int tau = 0, sigma = 0;  // row and column clusters
   int rank = -1;           // -1: dense
   // dense: A row-major (3|tau|) x (3|sigma|); low rank: U (3|tau| x k),
   // V (3|sigma| x k), column l contiguous, block = U V^T.  Mixed precision:
-  // the first kd terms in double (U, V), the trailing rank - kd terms, whose
-  // single-precision rounding fits the block's error budget, in float (Uf, Vf).
+  // the first kd terms in double (U, V), the next kf in float (Uf, Vf), the
+  // last rank - kd - kf in half precision (Uh, Vh: each column divided by its
+  // largest magnitude, kept in sh as u-scale, v-scale pairs, so that the
+  // narrow half exponent range holds it).  A term goes to a lower precision
+  // when its rounding fits the block's error budget (hmatrix.cpp, fill_aca).
   std::vector<double> A, U, V;
   std::vector<float> Uf, Vf;
-  int kd = 0;
+  std::vector<half> Uh, Vh;
+  std::vector<double> sh;
+  int kd = 0, kf = 0;
   int aca_rank = 0;  // rank found by ACA on [H | s G] (before recompression)
   int aca_checks_failed = 0;
+  int kh() const { return rank - kd - kf; }
   // all rank terms in double: U (m x rank), V (n x rank)
   void factors(std::vector<double>& u, std::vector<double>& v, int64_t m, int64_t n) const {
     u.assign(U.begin(), U.begin() + m * kd);
     v.assign(V.begin(), V.begin() + n * kd);
     u.insert(u.end(), Uf.begin(), Uf.end());
     v.insert(v.end(), Vf.begin(), Vf.end());
+    for (int l = 0; l < kh(); ++l) {
+      for (int64_t i = 0; i < m; ++i) u.push_back(to_double(Uh[l * m + i]) * sh[2 * l]);
+      for (int64_t j = 0; j < n; ++j)
+        v.push_back(to_double(Vh[l * n + j]) * sh[2 * l + 1]);
+    }
   }
   int64_t stored_bytes() const {
-    return static_cast<int64_t>(sizeof(double) * (A.size() + U.size() + V.size()) +
-                                sizeof(float) * (Uf.size() + Vf.size()));
+    return static_cast<int64_t>(sizeof(double) * (A.size() + U.size() + V.size() + sh.size()) +
+                                sizeof(float) * (Uf.size() + Vf.size()) +
+                                sizeof(half) * (Uh.size() + Vh.size()));
   }
 };
 

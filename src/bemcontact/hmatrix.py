@@ -504,7 +504,7 @@ def solve_mixed(
     factors = []
     for nodes, Ab in op.diagonal_blocks():
         dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
-        factors.append((dofs, scipy.linalg.lu_factor(Ab, check_finite=False)))
+        factors.append((dofs, scipy.linalg.lu_factor(Ab, overwrite_a=True, check_finite=False)))
 
     def precondition(z):
         z = np.asarray(z).ravel()

@@ -761,7 +761,7 @@ class _InterfaceSystem:
             self.L.append(Wm @ c.Yc)
             # equilibrium in the free rigid modes, scaled to traction units
             self.E.append(c.Rc.T @ DQ)
-            self.CT.append(c.C @ (c.X @ T))
+            self.CT.append((c.C @ c.X) @ T)  # (C X) first: C has a row per control
             # a platen translation that strains nothing (the body is held only
             # by the contact in that direction) has no resultant: make that
             # exact, so an open contact shows as a singular Newton matrix
