@@ -114,7 +114,8 @@ def one_body(
         "nodes": int(N),
         "unknowns": int(3 * N),
         "assembly_s": sol.timings["assembly"],
-        "factor_s": None,  # dense: inside solve_s (LU + solve); H-matrix: no factorization
+        # dense: LAPACK getrf alone (inside solve_s); H-matrix: no factorization (GMRES)
+        "factor_s": sol.timings.get("factor"),
         "solve_s": sol.timings["solve"],
         "total_s": total,
         "gmres_iterations": info.get("iterations"),

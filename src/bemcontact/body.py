@@ -145,7 +145,8 @@ class BodySolution:
     weights: (N,) ∫ phi_i dS.
     region: (N,) region index per node; ``region_names`` the names.
     discretization: the :class:`~bemcontact.operators.Discretization`.
-    timings: seconds per stage (assembly, solve).
+    timings: seconds per stage (assembly, solve; dense: also factor, the LAPACK
+        getrf alone, inside solve).
     solver: how the system was solved: ``method`` ("dense" or "hmatrix"), and
         for "hmatrix" the GMRES ``iterations`` and ``residuals`` and the
         compression figures of :meth:`~bemcontact.hmatrix.CompressedSystem.stats`.
@@ -435,10 +436,10 @@ class ElasticBody:
             A[:n, n:] = -BW[:, 1:]
             A[n:, :n] = self.control_rows(controls)
             b = np.concatenate([b, [c.force for c in controls]])
-        x = self._lu_solve(A, b)
-        t2 = time.perf_counter()
-        return self._solution(x, known_u, values, controls,
-                              {"assembly": t1 - t0, "solve": t2 - t1}, {"method": "dense"})
+        timings = {"assembly": t1 - t0}
+        x = self._lu_solve(A, b, timings)
+        timings["solve"] = time.perf_counter() - t1  # getrf, gecon, getrs (and the border)
+        return self._solution(x, known_u, values, controls, timings, {"method": "dense"})
 
     def _solve_compressed(self, threads, linear: LinearSolverOptions) -> BodySolution:
         d = self.discretization
@@ -508,13 +509,17 @@ class ElasticBody:
             solver=solver,
         )
 
-    def _lu_factor(self, A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _lu_factor(self, A: np.ndarray, timings: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
         """LU factors of the Fortran-ordered A (LAPACK getrf, in place over A)
-        with a singularity check (condition estimate gecon)."""
+        with a singularity check (condition estimate gecon); ``timings``, if
+        given, receives the getrf seconds as ``"factor"``."""
         if not A.flags.f_contiguous:
             A = np.asfortranarray(A)
         anorm = scipy.linalg.lapack.dlange("1", A)
+        t0 = time.perf_counter()
         lu, piv, info = scipy.linalg.lapack.dgetrf(A, overwrite_a=True)
+        if timings is not None:
+            timings["factor"] = time.perf_counter() - t0
         rcond = 0.0
         if info == 0:
             rcond, _ = scipy.linalg.lapack.dgecon(lu, anorm, norm="1")
@@ -526,8 +531,8 @@ class ElasticBody:
             )
         return lu, piv
 
-    def _lu_solve(self, A: np.ndarray, b: np.ndarray) -> np.ndarray:
-        lu, piv = self._lu_factor(A)
+    def _lu_solve(self, A: np.ndarray, b: np.ndarray, timings: dict | None = None) -> np.ndarray:
+        lu, piv = self._lu_factor(A, timings)
         x, info = scipy.linalg.lapack.dgetrs(lu, piv, b)
         return x
 
