@@ -45,7 +45,7 @@ def test_scaling_script_smoke(capsys):
     spec = importlib.util.spec_from_file_location("b3", BENCH / "scaling.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    mod.main(["--sizes", "150,400", "--cubes", "3", "--no-write"])
+    mod.main(["--sizes", "150,400", "--cubes", "3", "--repeat", "1", "--no-write"])
     out = capsys.readouterr().out
     assert "Fitted exponents over 144–414 nodes" in out
     assert "| 3 | 222 |" in out  # two cubes K = 3: 144 + 78 nodes

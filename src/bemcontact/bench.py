@@ -47,7 +47,9 @@ def _commit() -> str | None:
 
 
 def peak_rss_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+    """This process's peak resident set, in MB (10^6 bytes, the unit of
+    ``dense_mb`` and ``compressed_mb``; Linux reports KiB)."""
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024 / 1e6
 
 
 def cube_divisions(nodes: int) -> int:
