@@ -28,6 +28,7 @@ from .operators import (
     QuadratureOptions,
     assemble_influence,
     assemble_system,
+    blas_threads,
     discretize,
 )
 
@@ -437,7 +438,8 @@ class ElasticBody:
             A[n:, :n] = self.control_rows(controls)
             b = np.concatenate([b, [c.force for c in controls]])
         timings = {"assembly": t1 - t0}
-        x = self._lu_solve(A, b, timings)
+        with blas_threads(threads):
+            x = self._lu_solve(A, b, timings)
         timings["solve"] = time.perf_counter() - t1  # getrf, gecon, getrs (and the border)
         return self._solution(x, known_u, values, controls, timings, {"method": "dense"})
 

@@ -71,7 +71,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--out", metavar="DIR", type=pathlib.Path, required=True,
                      help="output directory (created when the results are written)")
     run.add_argument("--threads", metavar="N", type=_threads,
-                     help="assembly threads (overrides solver.threads; default all cores)")
+                     help="threads for assembly, compression and LAPACK (overrides solver.threads; "
+                     "default all cores, or OMP_NUM_THREADS)")
     run.add_argument("--quiet", action="store_true", help="print nothing on success")
     run.add_argument("--progress", choices=("auto", "live", "lines", "none"), default="auto",
                      help="progress display on stderr: live (rich) when stderr is a terminal, "

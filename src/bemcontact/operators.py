@@ -26,6 +26,7 @@ See docs/theory.md for why this was preferred over multiple nodes.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass, field
 
@@ -271,6 +272,19 @@ def discretize(mesh: SurfaceMesh, options: DiscretizationOptions | None = None) 
     np.add.at(w, valid.ravel(), contrib.ravel())
     object.__setattr__(d, "weights", w)
     return d
+
+
+def blas_threads(threads: int | None):
+    """A context in which BLAS/LAPACK (OpenBLAS, through NumPy and SciPy)
+    uses at most ``threads`` threads, so that ``threads`` bounds the LU and
+    the products as it bounds the OpenMP assembly; ``None`` leaves OpenBLAS
+    at its own setting (all cores, or ``OMP_NUM_THREADS`` /
+    ``OPENBLAS_NUM_THREADS``)."""
+    if threads is None:
+        return contextlib.nullcontext()
+    import threadpoolctl
+
+    return threadpoolctl.threadpool_limits(limits=int(threads), user_api="blas")
 
 
 def assemble_influence(

@@ -312,8 +312,9 @@ SOLVER = Key(
         Key("watchdog", "integer", "full Newton steps allowed without a decrease of the "
             "residual before returning to the best point (0: monotone line search)", default=5,
             lo=0),
-        Key("threads", "integer", "OpenMP threads (the command line's `--threads` overrides "
-            "it)", lo=1, hi=MAX_THREADS, default_text="all cores, or OMP_NUM_THREADS"),
+        Key("threads", "integer", "threads of every parallel part: assembly and compression "
+            "(OpenMP) and the LU (BLAS/LAPACK); the command line's `--threads` overrides it",
+            lo=1, hi=MAX_THREADS, default_text="all cores, or OMP_NUM_THREADS"),
         LINEAR,
     ),
 )

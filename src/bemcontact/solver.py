@@ -27,7 +27,7 @@ from .body import BodySolution, ElasticBody
 from .errors import AccuracyWarning, ConfigError, ConvergenceError
 from .frame import ContactFrame, _functional_basis, _geometry, _locate
 from .hmatrix import CompressedSystem, HMatrixOptions, LinearSolverOptions
-from .operators import assemble_system
+from .operators import assemble_system, blas_threads
 from .progress import ProgressEvent, Reporter, Stopwatch, print_lines
 from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
 from .schema import MAX_THREADS
@@ -146,7 +146,9 @@ class SolverOptions:
         full steps on the way to the solution; a monotone search then takes
         tiny steps (tens of iterations instead of a handful).
     threads:
-        OpenMP threads for assembly (default: all).
+        Threads for every parallel part: the OpenMP assembly and H-matrix
+        work, and BLAS/LAPACK (the condensation's LU) during the solve
+        (default: all cores, or ``OMP_NUM_THREADS``).
     linear:
         How each body's BEM system is stored and solved for the condensation:
         dense LAPACK LU, or compressed operators (H-matrix, H-LU); default
@@ -602,6 +604,11 @@ class ContactProblem:
         if not steps:
             raise ConfigError("steps must hold at least one LoadStep")
         states = self.states(steps)
+        # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
+        with blas_threads(opt.threads):
+            return self._solve(opt, steps, states, raise_on_failure, report)
+
+    def _solve(self, opt, steps, states, raise_on_failure, report) -> ContactResult:
         t0 = time.perf_counter()
         with Stopwatch(report, "frame", "contact frame"):
             frame = self.frame

@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 import bemcontact as bc
+from bemcontact import operators as O
 from bemcontact.operators import element_influence
 
 G_MOD, NU = 1.0, 0.3
@@ -206,3 +207,18 @@ def test_assemble_system_equals_the_mixed_columns_of_h_and_g():
     assert not A[n:, :].any() and not A[:, n:].any()
     np.testing.assert_allclose(BW, B @ W, rtol=0, atol=1e-12 * np.abs(B @ W).max())
     np.testing.assert_array_equal(BC, B[:, cols])
+
+
+def test_blas_threads_bounds_openblas_inside_and_restores_it():
+    import threadpoolctl
+
+    def blas():
+        return [i["num_threads"] for i in threadpoolctl.threadpool_info() if i["user_api"] == "blas"]
+
+    before = blas()
+    assert before  # NumPy/SciPy bring OpenBLAS
+    with O.blas_threads(1):
+        assert blas() == [1] * len(before)
+    assert blas() == before
+    with O.blas_threads(None):  # None: OpenBLAS's own setting
+        assert blas() == before
