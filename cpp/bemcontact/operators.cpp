@@ -165,20 +165,11 @@ void integrate_points(const double* c, size_t np, int n, const double* x, int sk
   expand_terms(acc, n, skip, K, want_h, want_g, He, Ge);
 }
 
-// Monomial exponents by node count (3 tri3, 4 quad4, 6 tri6, 8 quad8, 9 quad9:
-// the count fixes the type), as in element.hpp.
+// The element type of a node count (3 tri3, 4 quad4, 6 tri6, 8 quad8, 9
+// quad9): a compile-time constant, so eval_monomials unrolls.
 template <int N>
-inline void mono_at(double xi, double eta, double* m, double* mx, double* my) {
-  const auto* e = monomial_exponents(N == 3 ? TRI3 : N == 4 ? QUAD4 : N == 6 ? TRI6 : N == 8 ? QUAD8 : QUAD9);
-  const double px[3] = {1.0, xi, xi * xi}, py[3] = {1.0, eta, eta * eta};
-  for (int k = 0; k < N; ++k) {
-    const int a = e[k][0], b = e[k][1];
-    m[k] = px[a] * py[b];
-    if (mx) {
-      mx[k] = a == 0 ? 0.0 : a * px[a - 1] * py[b];
-      my[k] = b == 0 ? 0.0 : b * px[a] * py[b - 1];
-    }
-  }
+constexpr int type_of() {
+  return N == 3 ? TRI3 : N == 4 ? QUAD4 : N == 6 ? TRI6 : N == 8 ? QUAD8 : QUAD9;
 }
 
 template <int N>
@@ -186,7 +177,7 @@ void map_rule_n(const Element& e, const Rule2D& rule, double* out) {
   const size_t np = rule.size();
   for (size_t p = 0; p < np; ++p) {
     double m[N], mx[N], my[N];
-    mono_at<N>(rule.xi[p], rule.eta[p], m, mx, my);
+    eval_monomials(type_of<N>(), rule.xi[p], rule.eta[p], m, mx, my);
     double x[3] = {0, 0, 0}, a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
     for (int k = 0; k < N; ++k)
       for (int d = 0; d < 3; ++d) {
