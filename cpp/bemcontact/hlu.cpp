@@ -39,26 +39,26 @@ void core_svd(double* a, int k, double* s, double* W, double* Zt, const Lapack& 
 }
 }  // namespace
 
-void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
-                      int& k, double eps, const Lapack& lapack, double abs_tol) {
-  if (!lapack.ok() || k == 0) return;
-  if (k > m || k > n) {
-    // more columns than rows: QR would not reduce; compress through the
-    // smaller side by forming the product's QR-free SVD route on the core
-    // of the thin factor (rare: tiny blocks). Fall back to a dense SVD.
-    const int64_t r = std::min(m, n);
-    std::vector<double> P(m * n, 0.0);  // column-major product
-    for (int l = 0; l < k; ++l)
-      for (int64_t j = 0; j < n; ++j) {
-        const double v = V[l * n + j];
-        if (v == 0.0) continue;
-        for (int64_t i = 0; i < m; ++i) P[j * m + i] += U[l * m + i] * v;
-      }
-    int im = static_cast<int>(m), in = static_cast<int>(n), ir = static_cast<int>(r), info = 0;
-    std::vector<double> sv(r), Um(m * r), Vt(r * n);
+bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, double abs_tol,
+                   const Lapack& lapack, std::vector<double>& U, std::vector<double>& V, int& k,
+                   int64_t max_rank) {
+  const int64_t r = std::min(m, n);
+  int im = static_cast<int>(m), in = static_cast<int>(n), ir = static_cast<int>(r), info = 0;
+  std::vector<double> sv(r), Um(m * r), Vt(r * n);
+  int lw = -1;
+  double wq = 0.0;
+  if (lapack.dgesdd) {  // divide and conquer: several times faster than dgesvd here
     char job = 'S';
-    int lw = -1;
-    double wq = 0.0;
+    std::vector<int> iwork(8 * static_cast<size_t>(r));
+    lapack.dgesdd(&job, &im, &in, P.data(), &im, sv.data(), Um.data(), &im, Vt.data(), &ir, &wq,
+                  &lw, iwork.data(), &info);
+    lw = std::max(static_cast<int>(wq), 1);
+    std::vector<double> work(lw);
+    lapack.dgesdd(&job, &im, &in, P.data(), &im, sv.data(), Um.data(), &im, Vt.data(), &ir,
+                  work.data(), &lw, iwork.data(), &info);
+    if (info) throw std::runtime_error("H-LU: dgesdd failed");
+  } else {
+    char job = 'S';
     lapack.dgesvd(&job, &job, &im, &in, P.data(), &im, sv.data(), Um.data(), &im, Vt.data(), &ir,
                   &wq, &lw, &info);
     lw = std::max(static_cast<int>(wq), 1);
@@ -66,23 +66,42 @@ void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m,
     lapack.dgesvd(&job, &job, &im, &in, P.data(), &im, sv.data(), Um.data(), &im, Vt.data(), &ir,
                   work.data(), &lw, &info);
     if (info) throw std::runtime_error("H-LU: dgesvd failed");
-    double total = 0.0;
-    for (int64_t i = 0; i < r; ++i) total += sv[i] * sv[i];
-    int64_t keep = r;
-    double tail = 0.0;
-    const double tol = std::max(eps * std::sqrt(total), abs_tol);
-    while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= tol) {
-      tail += sv[keep - 1] * sv[keep - 1];
-      --keep;
-    }
-    std::vector<double> nu(m * keep), nv(n * keep);
-    for (int64_t l = 0; l < keep; ++l) {
-      for (int64_t i = 0; i < m; ++i) nu[l * m + i] = Um[l * m + i] * sv[l];
-      for (int64_t j = 0; j < n; ++j) nv[l * n + j] = Vt[j * r + l];
-    }
-    U.swap(nu);
-    V.swap(nv);
-    k = static_cast<int>(keep);
+  }
+  double total = 0.0;
+  for (int64_t i = 0; i < r; ++i) total += sv[i] * sv[i];
+  int64_t keep = r;
+  double tail = 0.0;
+  const double tol = std::max(eps * std::sqrt(total), abs_tol);
+  while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= tol) {
+    tail += sv[keep - 1] * sv[keep - 1];
+    --keep;
+  }
+  if (keep > max_rank) return false;
+  std::vector<double> nu(m * keep), nv(n * keep);
+  for (int64_t l = 0; l < keep; ++l) {
+    for (int64_t i = 0; i < m; ++i) nu[l * m + i] = Um[l * m + i] * sv[l];
+    for (int64_t j = 0; j < n; ++j) nv[l * n + j] = Vt[j * r + l];
+  }
+  U.swap(nu);
+  V.swap(nv);
+  k = static_cast<int>(keep);
+  return true;
+}
+
+void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
+                      int& k, double eps, const Lapack& lapack, double abs_tol) {
+  if (!lapack.ok() || k == 0) return;
+  if (k > m || k > n) {
+    // more terms than rows or columns: QR would not reduce; truncate the
+    // product's SVD instead (tiny blocks, or a dense update of a low-rank block)
+    std::vector<double> P(m * n, 0.0);  // column-major product
+    for (int l = 0; l < k; ++l)
+      for (int64_t j = 0; j < n; ++j) {
+        const double v = V[l * n + j];
+        if (v == 0.0) continue;
+        for (int64_t i = 0; i < m; ++i) P[j * m + i] += U[l * m + i] * v;
+      }
+    dense_lowrank(P, m, n, eps, abs_tol, lapack, U, V, k);
     return;
   }
   int im = static_cast<int>(m), in = static_cast<int>(n), info = 0;
@@ -551,6 +570,7 @@ std::unique_ptr<HNode> HLU::build(int tau, int sigma, const HMatrix& h,
       node->k = b.rank;
       b.factors(node->U, node->V, node->m, node->n);
     }
+    leaves_.push_back(node.get());
     return node;
   }
   if (t.leaf() || s.leaf()) throw std::logic_error("H-LU: missing leaf block");
@@ -597,6 +617,25 @@ HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
     index[static_cast<int64_t>(blk.tau) * nc + blk.sigma] = static_cast<int64_t>(b);
   }
   root_ = build(0, 0, h, index);
+  // The blocks were compressed to the H-matrix's eps; a looser factorization
+  // (a coarse preconditioner) first truncates them to its own eps, so the
+  // updates below work on the smaller ranks.
+  if (eps_ > h.params().eps) {
+    std::exception_ptr err;
+#pragma omp parallel for schedule(dynamic, 4) num_threads(std::max(threads, 1))
+    for (int64_t q = 0; q < static_cast<int64_t>(leaves_.size()); ++q) {
+      HNode& a = *leaves_[q];
+      try {
+        if (a.kind == kRk) truncate_lowrank(a.U, a.V, a.m, a.n, a.k, eps_, lapack_);
+      } catch (...) {
+#pragma omp critical(hlu_build)
+        if (!err) err = std::current_exception();
+      }
+    }
+    if (err) std::rethrow_exception(err);
+  }
+  leaves_.clear();
+  leaves_.shrink_to_fit();
   if (r > 0) {
     const int64_t n3 = 3 * n_;
     std::vector<double> up(n3 * r), vp(n3 * r);  // permuted order, column-major

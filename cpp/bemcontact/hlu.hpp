@@ -14,6 +14,7 @@
 // many right-hand sides (the contact condensation).
 #pragma once
 
+#include <climits>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -41,6 +42,14 @@ struct Blas {
 // are left alone.
 void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
                       int& k, double eps, const Lapack& lapack, double abs_tol = 0.0);
+
+// Truncated SVD of the dense column-major m x n matrix P (destroyed): U V^T
+// with the smallest rank whose discarded singular values have a 2-norm <=
+// max(eps |P|_F, abs_tol).  Returns false (U, V, k untouched) when that rank
+// exceeds max_rank.
+bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, double abs_tol,
+                   const Lapack& lapack, std::vector<double>& U, std::vector<double>& V, int& k,
+                   int64_t max_rank = INT64_MAX);
 
 struct HNode;
 
@@ -72,6 +81,7 @@ class HLU {
   Blas blas_;
   double eps_ = 1e-6;
   std::unique_ptr<HNode> root_;
+  std::vector<HNode*> leaves_;  // during the construction only
   double factor_s_ = 0.0;
 
   friend struct HArith;

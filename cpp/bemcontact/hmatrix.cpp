@@ -733,8 +733,9 @@ void lowrank_apply(const T* U, const T* V, int rk, int64_t mr, int64_t nc, const
   for (int l = 0; l < rk; ++l) {
     const T* v = V + l * nc;
     double* tl = t.data() + l * k;
-    if (k == 1) {
+    if (k == 1) {  // (SIMD lanes: a strict-order sum is latency bound)
       double s = 0.0;
+#pragma omp simd reduction(+ : s)
       for (int64_t c = 0; c < nc; ++c) s += static_cast<double>(v[c]) * xs[c];
       tl[0] = s;
       continue;
@@ -793,12 +794,7 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
       const double* xs = xp.data() + 3 * sig.begin * k;
       double* yo = yt.data() + 3 * tau.begin * k;
       if (B.rank < 0 && k == 1) {
-        for (int64_t r = 0; r < mr; ++r) {
-          const double* a = B.A.data() + r * nc;
-          double s = 0.0;
-          for (int64_t c = 0; c < nc; ++c) s += a[c] * xs[c];
-          yo[r] += s;
-        }
+        for (int64_t r = 0; r < mr; ++r) yo[r] += dot(B.A.data() + r * nc, xs, nc);
       } else if (B.rank < 0) {
         for (int64_t r = 0; r < mr; ++r) {
           const double* a = B.A.data() + r * nc;

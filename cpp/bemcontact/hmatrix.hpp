@@ -110,6 +110,7 @@ class HMatrix {
           double nu, const QuadratureParams& q, const HParams& hp, const uint8_t* known_u,
           const double* W, int64_t s, const Lapack& lapack, int threads);
 
+  const HParams& params() const { return hp_; }
   int64_t n_points() const { return n_; }
   // y (3N x k, row-major, original dof order) = A x
   void apply(const double* x, double* y, int64_t k, int threads) const;
