@@ -96,7 +96,10 @@ def one_body(
     body, grad, sigma = linear_field_cube(nodes)
     given = {"leaf_size": leaf_size, "truncation": truncation, "storage": storage}
     hopt = HMatrixOptions(eps=eps, **{k: v for k, v in given.items() if v is not None})
-    linear = LinearSolverOptions(method=method, hmatrix=hopt, tolerance=min(1e-10, eps * 1e-3))
+    # GMRES to eps/10: the compressed A itself is only eps-accurate, so a
+    # smaller residual buys nothing (20k nodes, eps 1e-8: 1e-9 and 1e-11 give
+    # the same error vs exact, 1.9e-6, in 84 and 100 iterations, measured)
+    linear = LinearSolverOptions(method=method, hmatrix=hopt, tolerance=min(1e-10, eps * 0.1))
     t0 = time.perf_counter()
     sol = body.solve(threads=threads, linear=linear)
     total = time.perf_counter() - t0
