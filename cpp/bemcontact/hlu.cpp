@@ -37,11 +37,26 @@ void core_svd(double* a, int k, double* s, double* W, double* Zt, const Lapack& 
   lapack.dgesvd(&jobu, &jobvt, &k, &k, a, &k, s, W, &k, Zt, &k, work.data(), &lw, &info);
   if (info) throw std::runtime_error("H-LU: dgesvd failed");
 }
-}  // namespace
 
-bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, double abs_tol,
-                   const Lapack& lapack, std::vector<double>& U, std::vector<double>& V, int& k,
-                   int64_t max_rank) {
+// Smallest rank whose discarded singular values (sv, descending, r of them)
+// have a 2-norm <= max(eps |sv|_2, abs_tol).
+int64_t truncation_rank(const double* sv, int64_t r, double eps, double abs_tol) {
+  double total = 0.0;
+  for (int64_t i = 0; i < r; ++i) total += sv[i] * sv[i];
+  const double tol = std::max(eps * std::sqrt(total), abs_tol);
+  int64_t keep = r;
+  double tail = 0.0;
+  while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= tol) {
+    tail += sv[keep - 1] * sv[keep - 1];
+    --keep;
+  }
+  return keep;
+}
+
+// Truncated SVD of the dense column-major m x n matrix P (destroyed): U V^T
+// of the rank truncation_rank gives.
+void dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, double abs_tol,
+                   const Lapack& lapack, std::vector<double>& U, std::vector<double>& V, int& k) {
   const int64_t r = std::min(m, n);
   int im = static_cast<int>(m), in = static_cast<int>(n), ir = static_cast<int>(r), info = 0;
   std::vector<double> sv(r), Um(m * r), Vt(r * n);
@@ -67,16 +82,7 @@ bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, dou
                   work.data(), &lw, &info);
     if (info) throw std::runtime_error("H-LU: dgesvd failed");
   }
-  double total = 0.0;
-  for (int64_t i = 0; i < r; ++i) total += sv[i] * sv[i];
-  int64_t keep = r;
-  double tail = 0.0;
-  const double tol = std::max(eps * std::sqrt(total), abs_tol);
-  while (keep > 0 && std::sqrt(tail + sv[keep - 1] * sv[keep - 1]) <= tol) {
-    tail += sv[keep - 1] * sv[keep - 1];
-    --keep;
-  }
-  if (keep > max_rank) return false;
+  const int64_t keep = truncation_rank(sv.data(), r, eps, abs_tol);
   std::vector<double> nu(m * keep), nv(n * keep);
   for (int64_t l = 0; l < keep; ++l) {
     for (int64_t i = 0; i < m; ++i) nu[l * m + i] = Um[l * m + i] * sv[l];
@@ -85,8 +91,8 @@ bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, dou
   U.swap(nu);
   V.swap(nv);
   k = static_cast<int>(keep);
-  return true;
 }
+}  // namespace
 
 void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
                       int& k, double eps, const Lapack& lapack, double abs_tol) {
@@ -124,15 +130,7 @@ void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m,
     }
   std::vector<double> sv(k), Wm(static_cast<size_t>(k) * k), Zt(static_cast<size_t>(k) * k);
   core_svd(core.data(), k, sv.data(), Wm.data(), Zt.data(), lapack);
-  double total = 0.0;
-  for (int i = 0; i < k; ++i) total += sv[i] * sv[i];
-  int r = k;
-  double tail = 0.0;
-  const double tol = std::max(eps * std::sqrt(total), abs_tol);
-  while (r > 0 && std::sqrt(tail + sv[r - 1] * sv[r - 1]) <= tol) {
-    tail += sv[r - 1] * sv[r - 1];
-    --r;
-  }
+  int r = static_cast<int>(truncation_rank(sv.data(), k, eps, abs_tol));
   if (r == 0) {  // the product is zero to eps of itself (or exactly zero)
     U.clear();
     V.clear();

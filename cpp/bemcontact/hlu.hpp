@@ -14,7 +14,6 @@
 // many right-hand sides (the contact condensation).
 #pragma once
 
-#include <climits>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -42,14 +41,6 @@ struct Blas {
 // are left alone.
 void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
                       int& k, double eps, const Lapack& lapack, double abs_tol = 0.0);
-
-// Truncated SVD of the dense column-major m x n matrix P (destroyed): U V^T
-// with the smallest rank whose discarded singular values have a 2-norm <=
-// max(eps |P|_F, abs_tol).  Returns false (U, V, k untouched) when that rank
-// exceeds max_rank.
-bool dense_lowrank(std::vector<double>& P, int64_t m, int64_t n, double eps, double abs_tol,
-                   const Lapack& lapack, std::vector<double>& U, std::vector<double>& V, int& k,
-                   int64_t max_rank = INT64_MAX);
 
 struct HNode;
 
