@@ -54,9 +54,10 @@ import _tamaas_side as tamaas_side  # noqa: E402
 from _common import machine_line  # noqa: E402
 
 import bemcontact as bc  # noqa: E402
-from bemcontact import cases, law  # noqa: E402
+from bemcontact.contact import law
+from bemcontact.validation import cases  # noqa: E402
 from bemcontact.bench import peak_rss_mb  # noqa: E402
-from bemcontact.reference import contact as ref  # noqa: E402
+from bemcontact.validation.reference import contact as ref  # noqa: E402
 
 MU, RATIO, SMALL, APPROACH = 0.3, 0.5, 0.02, 0.03
 

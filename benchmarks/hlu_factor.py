@@ -15,9 +15,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import pathlib
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+from _common import machine_line  # noqa: E402
 
 ONE = """
 import json, sys, time
@@ -47,7 +51,7 @@ def main() -> None:
         rec = json.loads(out.strip().splitlines()[-1])
         rows.append(rec)
         print(f"# {n}: {time.perf_counter() - t:.0f} s", file=sys.stderr)
-    print(f"eps {args.eps:g}, leaf {args.leaf}, commit {rows[0]['commit']}, "
+    print(f"eps {args.eps:g}, leaf {args.leaf}, {machine_line()}, "
           f"{rows[0]['threads']} threads\n")
     print("| nodes | unknowns | build s | H-LU s | dense LU s | H-LU / dense | solve 300 rhs s | A / dense | "
           "factors / dense | max rank | residual | refined | peak RSS MB |")

@@ -24,9 +24,9 @@ import sys
 import numpy as np
 
 import bemcontact as bc
-from bemcontact import cases
-from bemcontact.plot import plot_force_displacement, plot_radial_profile
-from bemcontact.reference import contact as ref
+from bemcontact.validation import cases
+from bemcontact.output.plot import plot_force_displacement, plot_radial_profile
+from bemcontact.validation.reference import contact as ref
 
 MU, RATIO, APPROACH = 0.3, 0.75, 0.03
 

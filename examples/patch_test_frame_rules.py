@@ -26,7 +26,7 @@ from __future__ import annotations
 import numpy as np
 
 import bemcontact as bc
-from bemcontact.geometry import gmsh_box
+from bemcontact.mesh.shapes import gmsh_box
 
 P0 = 10.0
 MAT1 = bc.LinearElastic(1.0e4, 0.3)

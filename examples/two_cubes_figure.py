@@ -12,7 +12,7 @@ The figure is rebuilt from the ``<body>_interface.csv`` files of the two
 result directories, along the line y ≈ 0.53 mm (a quarter of the interface
 nodes' width from its lower edge; the
 meshes do not match, so each body's nodal values are interpolated linearly
-onto the line, see :func:`bemcontact.plot.interface_line`).  With similar
+onto the line, see :func:`bemcontact.output.plot.interface_line`).  With similar
 materials the interface sticks and both cubes share one lateral displacement
 field (u_y about proportional to y - 1): the curves coincide.  With the
 nearly rigid upper cube, the lower cube expands laterally and slips under the
@@ -26,7 +26,7 @@ import sys
 
 import numpy as np
 
-from bemcontact.plot import interface_line, plot_interface_line
+from bemcontact.output.plot import interface_line, plot_interface_line
 
 
 def run(similar: str, dissimilar: str, png: str) -> dict[str, float]:

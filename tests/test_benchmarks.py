@@ -55,7 +55,7 @@ def test_scaling_script_smoke(capsys):
 def test_hlu_factor_benchmark_smoke():
     """benchmarks/hlu_factor.py's record on a small cube with a leaf small
     enough to compress: refined residual at rounding (1e-10, as in
-    tests/unit/test_hlu.py), sizes consistent."""
+    tests/unit/linalg/test_hlu.py), sizes consistent."""
     from bemcontact.bench import hlu_factor
 
     rec = hlu_factor(300, eps=1e-8, rhs=3)

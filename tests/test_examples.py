@@ -159,8 +159,8 @@ def test_hertz_sphere_on_block_problem_file(tmp_path):
     issue's tolerance; +1.4 % in the table) and the fitted contact radius
     +11.5 % (±1 %: at this coarse h the least-squares fit is poor; it falls
     to 0.64 % at h = 0.05, which the validation test asserts)."""
-    from bemcontact.io import read_csv
-    from bemcontact.reference.contact import effective_modulus, hertz
+    from bemcontact.output.read import read_csv
+    from bemcontact.validation.reference.contact import effective_modulus, hertz
 
     out = tmp_path / "hertz"
     subprocess.run(
@@ -191,7 +191,7 @@ def test_block_from_mesh_file(tmp_path):
     resultant equals the summary's contact force (1e-9: both are sums of the
     same weighted pressures) and the base's support reaction balances it to
     collocation accuracy (2e-3, as asserted for the two cubes)."""
-    from bemcontact.io import read_csv
+    from bemcontact.output.read import read_csv
 
     out = tmp_path / "block"
     subprocess.run(

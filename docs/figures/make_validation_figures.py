@@ -32,7 +32,7 @@ writes into docs/figures/ (or ``--out DIR``):
   Cattaneo–Mindlin loading and the Mindlin–Deresiewicz loop.
 
 The set-ups are those of tests/validation/test_hertz_mindlin.py (the same
-mesh sizes, load history and measures, through bemcontact.cases), so the
+mesh sizes, load history and measures, through bemcontact.validation.cases), so the
 figures show the cases whose numbers docs/validation.md tables; the script
 prints those numbers next to each figure.  The two frictional figures come
 from one solve at h = 0.05 mm (22 increments, about 2 min on one core).
@@ -52,11 +52,11 @@ import time
 import numpy as np
 
 import bemcontact as bc
-from bemcontact import cases
-from bemcontact.io import OutputOptions, write_results
-from bemcontact.plot import plot_force_displacement, plot_radial_profile, save_png
-from bemcontact.problem import load_problem
-from bemcontact.reference import contact as ref
+from bemcontact.validation import cases
+from bemcontact.output.write import OutputOptions, write_results
+from bemcontact.output.plot import plot_force_displacement, plot_radial_profile, save_png
+from bemcontact.problemfile import load_problem
+from bemcontact.validation.reference import contact as ref
 
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parents[1]

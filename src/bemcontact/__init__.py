@@ -6,8 +6,34 @@ Conventions (units, signs, array shapes) are in docs/theory.md.
 
 from __future__ import annotations
 
-from .body import BodySolution, Displacement, ElasticBody, Fixed, Force, Pressure, Traction
-from .frame import ContactFrame
+from ._version import __version__
+from .bem import (
+    BodySolution,
+    Discretization,
+    DiscretizationOptions,
+    Displacement,
+    ElasticBody,
+    Fixed,
+    Force,
+    LinearElastic,
+    Pressure,
+    QuadratureOptions,
+    Traction,
+    assemble_influence,
+    discretize,
+)
+from .contact import (
+    ContactFrame,
+    ContactPair,
+    ContactProblem,
+    ContactResult,
+    FrameResult,
+    InterfaceResult,
+    LoadStep,
+    SolverOptions,
+    StepRecord,
+    condense,
+)
 from .errors import (
     AccuracyWarning,
     BemcontactError,
@@ -16,21 +42,9 @@ from .errors import (
     MaterialError,
     MeshError,
 )
-from .hmatrix import HMatrixOptions, LinearSolverOptions
-from .material import LinearElastic
+from .linalg import HMatrixOptions, LinearSolverOptions
 from .mesh import SurfaceMesh, box, read_mesh
-from .problem import Problem, load_problem
-from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
-from .solver import ContactPair, ContactProblem, LoadStep, SolverOptions, condense
-from .operators import (
-    Discretization,
-    DiscretizationOptions,
-    QuadratureOptions,
-    assemble_influence,
-    discretize,
-)
-
-__version__ = "0.1.0"
+from .problemfile import Problem, ProblemFile, load_problem
 
 __all__ = [
     "__version__",
@@ -68,6 +82,7 @@ __all__ = [
     "StepRecord",
     "HMatrixOptions",
     "LinearSolverOptions",
+    "ProblemFile",
     "Problem",
     "load_problem",
 ]

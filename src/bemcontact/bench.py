@@ -13,7 +13,8 @@ on the others), so the error is measured with the speed.
 
 Each function returns a flat dict with the keys the issue tracker asks for:
 nodes, unknowns, assembly_s, factor_s, solve_s, newton_s, newton_iterations,
-peak_rss_mb, compressed_mb, dense_mb, error, normal_force, threads, commit,
+peak_rss_mb, compressed_mb, dense_mb, error, normal_force, threads, version (the
+package's; benchmark scripts record the commit),
 plus method details.  Keys that do not apply are None.
 """
 
@@ -21,29 +22,15 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import pathlib
 import resource
-import subprocess
 import time
 
 import numpy as np
 
-from .body import Displacement, ElasticBody, Traction
-from .hmatrix import HMatrixOptions, LinearSolverOptions
-from .material import LinearElastic
+from ._version import __version__
+from .bem import Displacement, ElasticBody, LinearElastic, Traction
+from .linalg import HMatrixOptions, LinearSolverOptions
 from .mesh import box
-
-
-def _commit() -> str | None:
-    here = pathlib.Path(__file__).resolve().parent
-    try:
-        out = subprocess.run(
-            ["git", "rev-parse", "--short", "HEAD"], cwd=here, capture_output=True, text=True,
-            timeout=10,
-        )
-    except (OSError, subprocess.SubprocessError):
-        return None
-    return out.stdout.strip() or None if out.returncode == 0 else None
 
 
 def peak_rss_mb() -> float:
@@ -111,7 +98,8 @@ def one_body(
     N = sol.points.shape[0]
     info = sol.solver
     hm = info.get("method") == "hmatrix"
-    from . import _core
+    from ._native import core as _core_module
+    _core = _core_module()
 
     return {
         "case": "one-body",
@@ -138,7 +126,7 @@ def one_body(
         "error": float(err),
         "normal_force": None,
         "threads": threads if threads is not None else _core.max_threads(),
-        "commit": _commit(),
+        "version": __version__,
     }
 
 
@@ -146,10 +134,11 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
               method: str = "auto", eps: float = 1e-7) -> dict:
     """The paper's two cubes with K = ``divisions`` elements per lower-cube edge;
     ``method`` (auto, dense, hmatrix) and ``eps`` as for :func:`one_body`."""
-    from . import _core
-    from .body import Displacement as Disp
+    from ._native import core as _core_module
+    _core = _core_module()
+    from .bem import Displacement as Disp
     from .errors import ConfigError
-    from .solver import ContactPair, ContactProblem, SolverOptions
+    from .contact import ContactPair, ContactProblem, SolverOptions
 
     if case not in ("similar", "dissimilar"):
         raise ConfigError(f"two-cubes --case must be 'similar' or 'dissimilar', got {case!r}")
@@ -204,7 +193,7 @@ def two_cubes(divisions: int, case: str = "dissimilar", *, threads: int | None =
         "error": None,
         "normal_force": float(res.normal_force),
         "threads": threads if threads is not None else _core.max_threads(),
-        "commit": _commit(),
+        "version": __version__,
     }
 
 
@@ -213,8 +202,9 @@ def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
     """Build the linear-field cube's compressed A, factor it by H-LU and
     solve ``rhs`` random right-hand sides (one refinement step): seconds,
     memory and residuals (benchmarks/hlu_factor.py)."""
-    from . import _core
-    from .hmatrix import CompressedSystem
+    from ._native import core as _core_module
+    _core = _core_module()
+    from .bem.compressed import CompressedSystem
 
     body, _, _ = linear_field_cube(nodes)
     d = body.discretization
@@ -241,7 +231,7 @@ def hlu_factor(nodes: int, *, eps: float = 1e-7, rhs: int = 300,
         "compressed_mb": cs.stored_bytes / 1e6, "factor_mb": f.stored_bytes / 1e6,
         "dense_mb": cs.dense_bytes / 1e6, "max_rank": f.max_rank,
         "residual": first, "refined_residual": second, "peak_rss_mb": peak_rss_mb(),
-        "threads": th, "commit": _commit(),
+        "threads": th, "version": __version__,
     }
 
 

@@ -27,11 +27,11 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import __version__
+from ._version import __version__
 from .errors import BemcontactError, ConvergenceError
-from .io import write_results, write_summary
-from .problem import load_problem
-from .schema import MAX_THREADS
+from .output.write import write_results, write_summary
+from .problemfile.reader import load_problem
+from .settings import MAX_THREADS
 
 EXIT_OK = 0
 EXIT_INPUT = 2
@@ -273,7 +273,7 @@ def _bench(args: argparse.Namespace) -> int:
     import json
 
     from .bench import one_body, two_cubes
-    from .io import write_json
+    from .output.write import write_json
 
     try:
         if args.json is not None and not args.json.parent.is_dir():

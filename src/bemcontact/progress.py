@@ -1,7 +1,7 @@
 """Progress of a contact solve: events, a plain line printer and a live
 display (rich).
 
-:meth:`ContactProblem.solve <bemcontact.solver.ContactProblem.solve>` calls
+:meth:`ContactProblem.solve <bemcontact.contact.ContactProblem.solve>` calls
 its ``progress`` callable with a :class:`ProgressEvent` when a stage starts
 and ends (``frame``, then ``assembly`` and ``condensation`` per body), when a
 load increment starts, and after each Newton iteration.  Any callable taking

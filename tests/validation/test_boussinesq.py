@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bemcontact import cases
-from bemcontact.law import OPEN
+from bemcontact.validation import cases
+from bemcontact.contact.law import OPEN
 
 pytestmark = pytest.mark.validation
 

@@ -28,7 +28,7 @@ from bemcontact import (
     SolverOptions,
     box,
 )
-from bemcontact.geometry import gmsh_box
+from bemcontact.mesh.shapes import gmsh_box
 
 pytestmark = pytest.mark.validation
 

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from bemcontact import cases
-from bemcontact.reference import contact as ref
+from bemcontact.validation import cases
+from bemcontact.validation.reference import contact as ref
 
 pytestmark = pytest.mark.validation
 

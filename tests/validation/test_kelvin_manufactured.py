@@ -37,7 +37,7 @@ import numpy as np
 import pytest
 
 import bemcontact as bc
-from bemcontact.reference import kelvin_displacement, kelvin_traction
+from bemcontact.validation.reference import kelvin_displacement, kelvin_traction
 
 from ..conftest import fitted_rate, weighted_relative_error
 

@@ -1,0 +1,369 @@
+"""An elastic body: a closed surface mesh, a material and boundary conditions
+(:mod:`.conditions`, with the conventions for signs and units), and the mixed
+boundary value problem of one body, solved by the bordered solve of
+:mod:`bemcontact.linalg.bordered` (dense LU, or compressed operators and GMRES).
+"""
+
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..linalg.bordered import solve_bordered
+from .compressed import CompressedSystem
+from ..linalg.options import LinearSolverOptions
+from ..linalg.threads import blas_threads
+from ..mesh import SurfaceMesh
+from .conditions import (
+    BoundaryCondition, Control, Displacement, Force, Pressure, _KINDS,
+)
+from .discretization import Discretization, DiscretizationOptions, discretize
+from .material import LinearElastic
+from .operators import QuadratureOptions, assemble_influence, assemble_system
+
+
+@dataclass
+class BodySolution:
+    """Nodal results of one elastic solve (N functional nodes).
+
+    Attributes
+    ----------
+    points, normals: (N, 3) collocation points and outward unit normals.
+    displacement, traction: (N, 3) global components.
+    weights: (N,) ∫ phi_i dS.
+    region: (N,) region index per node; ``region_names`` the names.
+    discretization: the :class:`~bemcontact.bem.discretization.Discretization`.
+    timings: seconds per stage (assembly, solve; dense: also factor, the LAPACK
+        getrf alone, inside solve).
+    solver: how the system was solved: ``method`` ("dense" or "hmatrix"), and
+        for "hmatrix" the GMRES ``iterations`` and ``residuals`` and the
+        compression figures of :meth:`~bemcontact.linalg.CompressedSystem.stats`.
+    """
+
+    points: np.ndarray
+    normals: np.ndarray
+    displacement: np.ndarray
+    traction: np.ndarray
+    weights: np.ndarray
+    region: np.ndarray
+    region_names: tuple[str, ...]
+    discretization: Discretization
+    timings: dict[str, float] = field(default_factory=dict)
+    solver: dict = field(default_factory=dict)
+
+    def nodes_of(self, region: str) -> np.ndarray:
+        if region not in self.region_names:
+            raise ConfigError(f"unknown region {region!r}; regions are {list(self.region_names)}")
+        return np.flatnonzero(self.region == self.region_names.index(region))
+
+    def reaction(self, region: str) -> np.ndarray:
+        """Resultant force (3,) the surroundings exert on ``region``: ∫ t dS."""
+        i = self.nodes_of(region)
+        return self.weights[i] @ self.traction[i]
+
+    def reactions(self) -> dict[str, np.ndarray]:
+        return {r: self.reaction(r) for r in self.region_names}
+
+
+class ElasticBody:
+    """A homogeneous linear elastic body bounded by a closed surface.
+
+    Parameters
+    ----------
+    mesh:
+        Closed, outward-oriented :class:`~bemcontact.mesh.SurfaceMesh`
+        (checked with :meth:`SurfaceMesh.check`).
+    material:
+        :class:`~bemcontact.bem.material.LinearElastic`.
+    boundary_conditions:
+        Region name -> a boundary condition or a list of them (at most one
+        prescription per component).  Regions not listed are traction free.
+    quadrature, discretization:
+        Integration and node-layout options.
+    name:
+        Used in messages.
+    """
+
+    def __init__(
+        self,
+        mesh: SurfaceMesh,
+        material: LinearElastic,
+        boundary_conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]]
+        | None = None,
+        *,
+        quadrature: QuadratureOptions | None = None,
+        discretization: DiscretizationOptions | None = None,
+        name: str = "body",
+    ) -> None:
+        if not isinstance(mesh, SurfaceMesh):
+            raise ConfigError(f"{name}: mesh must be a SurfaceMesh, got {type(mesh).__name__}")
+        if not isinstance(material, LinearElastic):
+            raise ConfigError(
+                f"{name}: material must be a LinearElastic, got {type(material).__name__}"
+            )
+        self.name = name
+        self.mesh = mesh.check()
+        self.material = material
+        self.quadrature = quadrature or QuadratureOptions()
+        self.discretization_options = discretization or DiscretizationOptions()
+        self.boundary_conditions = self.checked_conditions(boundary_conditions or {})
+        self._disc: Discretization | None = None
+
+    def checked_conditions(
+        self, conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]],
+        where: str = "",
+    ) -> dict[str, tuple[BoundaryCondition, ...]]:
+        """Validate a region -> condition(s) mapping for this body (known
+        regions, known kinds, one prescription per component)."""
+        name = f"{where}{self.name}"
+        mesh = self.mesh
+        if not isinstance(conditions, Mapping):
+            raise ConfigError(
+                f"{name}: boundary conditions must be a mapping region -> condition(s), got "
+                f"{type(conditions).__name__}"
+            )
+        out: dict[str, tuple[BoundaryCondition, ...]] = {}
+        for region, bcs in conditions.items():
+            if region not in mesh.region_names:
+                raise ConfigError(
+                    f"{name}: boundary condition on unknown region {region!r}; the mesh has "
+                    f"regions {list(mesh.region_names)}"
+                )
+            items = tuple(bcs) if isinstance(bcs, (list, tuple)) else (bcs,)
+            taken: dict[int, str] = {}
+            for bc in items:
+                if not isinstance(bc, _KINDS):
+                    raise ConfigError(
+                        f"{name}: region {region!r}: {bc!r} is not a Displacement, Traction, "
+                        "Pressure or Force"
+                    )
+                for c in self._components(bc):
+                    kind = type(bc).__name__
+                    if c in taken:
+                        raise ConfigError(
+                            f"{name}: region {region!r}: component {'xyz'[c]} is prescribed "
+                            f"twice ({taken[c]} and {kind}); give each component one condition"
+                        )
+                    taken[c] = kind
+            out[region] = items
+        return out
+
+    @staticmethod
+    def _components(bc: BoundaryCondition) -> list[int]:
+        if isinstance(bc, Pressure):
+            return [0, 1, 2]
+        if callable(bc.value):
+            return [0, 1, 2]
+        return [c for c in range(3) if bc.value[c] is not None]
+
+    @property
+    def discretization(self) -> Discretization:
+        if self._disc is None:
+            self._disc = discretize(self.mesh, self.discretization_options)
+        return self._disc
+
+    def boundary_data(
+        self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(known_u (3N,) bool, values (3N,)): per dof, whether the displacement
+        is prescribed, and the prescribed displacement or traction, for this
+        body's conditions or the (checked) ``conditions`` given.  Force-
+        controlled dofs count as known displacement with value 0 here (their
+        common translation is added by the solvers, see :meth:`controls`)."""
+        d = self.discretization
+        N = d.n_points
+        known_u = np.zeros((N, 3), dtype=bool)
+        values = np.zeros((N, 3))
+        conditions = self.boundary_conditions if conditions is None else conditions
+        for region, items in conditions.items():
+            idx = np.flatnonzero(d.region == self.mesh.region_names.index(region))
+            X, n = d.points[idx], d.normals[idx]
+            for bc in items:
+                if isinstance(bc, Force):
+                    for c in self._components(bc):
+                        known_u[idx, c] = True
+                        values[idx, c] = 0.0
+                    continue
+                if isinstance(bc, Pressure):
+                    values[idx] = -bc.pressure * n
+                    continue
+                if callable(bc.value):
+                    args = (X,) if isinstance(bc, Displacement) else (X, n)
+                    try:
+                        v = np.asarray(bc.value(*args), dtype=float)
+                    except Exception as exc:
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            f"failed: {type(exc).__name__}: {exc}"
+                        ) from exc
+                    if v.shape != (idx.size, 3):
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            f"returned shape {v.shape}, expected {(idx.size, 3)}"
+                        )
+                    mask = ~np.isnan(v)
+                    if np.isinf(v).any():
+                        raise ConfigError(
+                            f"{self.name}: region {region!r}: the {type(bc).__name__} callable "
+                            "returned infinite values"
+                        )
+                else:
+                    v = np.array([np.nan if c is None else c for c in bc.value])[None, :].repeat(
+                        idx.size, 0
+                    )
+                    mask = ~np.isnan(v)
+                sub_known = known_u[idx]
+                sub_vals = values[idx]
+                sub_vals[mask] = v[mask]
+                if isinstance(bc, Displacement):
+                    sub_known[mask] = True
+                known_u[idx] = sub_known
+                values[idx] = sub_vals
+        return known_u.ravel(), values.ravel()
+
+    def controls(
+        self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None
+    ) -> list[Control]:
+        """The force-controlled components, in region order then x, y, z."""
+        d = self.discretization
+        conditions = self.boundary_conditions if conditions is None else conditions
+        out = []
+        for region, items in conditions.items():
+            idx = np.flatnonzero(d.region == self.mesh.region_names.index(region))
+            for bc in items:
+                if isinstance(bc, Force):
+                    for c in self._components(bc):
+                        out.append(Control(region, c, 3 * idx + c, float(bc.value[c])))
+        return out
+
+    def control_indicators(self, controls: Sequence[Control]) -> np.ndarray:
+        """(3N, k): a unit translation of each controlled component (its
+        dofs set to 1).  B of the mixed system maps it to minus the column of
+        the platen's translation, -H E."""
+        E = np.zeros((3 * self.discretization.n_points, len(controls)))
+        for k, c in enumerate(controls):
+            E[c.dofs, k] = 1.0
+        return E
+
+    def control_rows(self, controls: Sequence[Control]) -> np.ndarray:
+        """(k, 3N): the resultant of the (unknown) tractions on each
+        controlled component, ∫ t_c dS = sum_p w_p t_pc."""
+        w = self.discretization.weights
+        R = np.zeros((len(controls), 3 * self.discretization.n_points))
+        for i, c in enumerate(controls):
+            R[i, c.dofs] = w[c.dofs // 3]
+        return R
+
+    def assemble(self, threads: int | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Influence matrices (H, G) of this body (see
+        :func:`~bemcontact.bem.operators.assemble_influence`)."""
+        m = self.material
+        return assemble_influence(
+            self.discretization, m.shear_modulus, m.poisson_ratio, self.quadrature, threads
+        )
+
+    def rigid_modes(self) -> np.ndarray:
+        """(3N, 6) rigid-body displacement modes at the functional nodes:
+        translations x, y, z, then rotations about x, y, z through the
+        weighted centroid."""
+        d = self.discretization
+        N = d.n_points
+        c = d.weights @ d.points / d.weights.sum()
+        x = d.points - c
+        R = np.zeros((N, 3, 6))
+        for j in range(3):
+            R[:, j, j] = 1.0
+            e = np.zeros(3)
+            e[j] = 1.0
+            R[:, :, 3 + j] = np.cross(e, x)
+        return R.reshape(3 * N, 6)
+
+    def solve(
+        self, threads: int | None = None, linear: LinearSolverOptions | None = None
+    ) -> BodySolution:
+        """Assemble and solve the mixed boundary value problem.
+
+        ``linear`` chooses dense LAPACK LU or H-matrix operators with GMRES
+        (:class:`~bemcontact.linalg.LinearSolverOptions`; default "auto":
+        dense for small bodies).  A body with no prescribed displacement is
+        determined up to a rigid motion; its tractions must then be
+        self-equilibrated, and the solution with zero weighted mean
+        translation and rotation is returned.
+        """
+        linear = linear or LinearSolverOptions()
+        if not isinstance(linear, LinearSolverOptions):
+            raise ConfigError(
+                f"{self.name}: linear must be LinearSolverOptions, got {type(linear).__name__}"
+            )
+        d = self.discretization
+        t0 = time.perf_counter()
+        known_u, values = self.boundary_data()
+        controls = self.controls()
+        free = not known_u.any()
+        m = self.material
+        # b = B values; the columns of A for a unit translation of each platen
+        # are H E (E on displacement-given dofs, so B E = -H E)
+        W = np.column_stack([values, self.control_indicators(controls)])
+        compressed = linear.use_hmatrix(d.n_points)
+        if compressed:
+            A = CompressedSystem(
+                d, m.shear_modulus, m.poisson_ratio, known_u, W, self.quadrature, linear.hmatrix,
+                threads,
+            )
+            BW = A.BW
+        else:  # A in place, with room for the border
+            A, BW, _ = assemble_system(
+                d, m.shear_modulus, m.poisson_ratio, known_u, W, quadrature=self.quadrature,
+                threads=threads, border=6 if free else len(controls),
+            )
+        t1 = time.perf_counter()
+        if free:
+            # rigid modes as extra unknowns, zero weighted mean motion as rows
+            modes = self.rigid_modes()
+            cols, rows, f = modes, (modes * np.repeat(d.weights, 3)[:, None]).T, np.zeros(6)
+        elif controls:
+            # the platens' translations as extra unknowns, their resultants as rows
+            cols, rows = -BW[:, 1:], self.control_rows(controls)
+            f = np.array([c.force for c in controls])
+        else:
+            cols = rows = f = None
+        timings = {"assembly": t1 - t0}
+        with blas_threads(threads):
+            x, y, solver = solve_bordered(
+                A, BW[:, 0], cols, rows, f, backend="gmres" if compressed else "lu",
+                linear=linear, exact_rhs=lambda Bs: Bs @ values, where=self.name,
+                timings=timings,
+            )
+        timings["solve"] = time.perf_counter() - t1  # (dense: getrf, gecon, getrs)
+        if compressed:
+            solver.update(A.stats())
+        return self._solution(x, y, known_u, values, controls, timings, solver)
+
+    def _solution(self, x, y, known_u, values, controls, timings, solver) -> BodySolution:
+        d = self.discretization
+        values = values.copy()
+        if controls:
+            for c, U in zip(controls, y):
+                values[c.dofs] = U
+        u = np.where(known_u, values, x)
+        t = np.where(known_u, x, values)
+        return BodySolution(
+            points=d.points,
+            normals=d.normals,
+            displacement=u.reshape(-1, 3),
+            traction=t.reshape(-1, 3),
+            weights=d.weights,
+            region=d.region,
+            region_names=self.mesh.region_names,
+            discretization=d,
+            timings=timings,
+            solver=solver,
+        )
+
+
+__all__ = ["ElasticBody", "BodySolution"]

@@ -1,0 +1,170 @@
+"""Condensation: each body reduced to its contact surface (the partitioned
+step of the LLM method), its BEM system assembled and factored once."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+
+from ..bem.body import ElasticBody
+from ..bem.operators import assemble_system
+from ..errors import ConfigError
+from ..linalg.bordered import solve_bordered
+from ..bem.compressed import CompressedSystem
+from ..linalg.options import LinearSolverOptions
+from ..progress import ProgressEvent, Reporter
+
+
+@dataclass
+class CondensedBody:
+    """One body reduced to its contact surface (the partitioned step).  For
+    contact tractions t_c (3 n_c, interleaved xyz per node), load weights
+    ell (S,) over the boundary-condition states, free rigid-mode amplitudes
+    alpha and platen translations U (force control),
+
+        x = x0 ell + X t_c + Rf alpha + Y U,   u_c = x[dofs]
+
+    where x is the BEM unknown vector (displacement at traction-given dofs,
+    traction at displacement-given dofs), x0 (n, S) the response to each
+    state's boundary data, Rf the rigid modes the supports leave free
+    (floating bodies; alpha fixed by the body's equilibrium), Y the response
+    to a unit translation of each force-controlled component (U fixed by
+    ``C x = forces ell``), F = X[dofs] the interface flexibility.
+    """
+
+    body: Any
+    nodes: np.ndarray
+    dofs: np.ndarray
+    known_u: np.ndarray
+    values: np.ndarray  # (3N, S) boundary values per state
+    x0: np.ndarray  # (n, S)
+    X: np.ndarray
+    Rf: np.ndarray
+    known_modal_force: np.ndarray  # (nf, S) ∫ Rf . t_known dS per state
+    controls: list
+    Y: np.ndarray  # (n, nc)
+    C: np.ndarray  # (nc, n) resultant rows of the controlled components
+    forces: np.ndarray  # (nc, S) prescribed resultants per state
+    timings: dict
+    solver: dict = field(default_factory=dict)  # linear solver used, sizes and residuals
+
+    @property
+    def F(self) -> np.ndarray:
+        return self.X[self.dofs]
+
+    @property
+    def u0(self) -> np.ndarray:
+        return self.x0[self.dofs]
+
+    @property
+    def Rc(self) -> np.ndarray:
+        return self.Rf[self.dofs]
+
+    @property
+    def Yc(self) -> np.ndarray:
+        return self.Y[self.dofs]
+
+
+def condense(
+    body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
+    progress: Reporter | None = None, linear: LinearSolverOptions | None = None,
+) -> CondensedBody:
+    """Assemble the body's BEM system once, factor it, and solve for the
+    response to unit tractions at each contact dof (``nodes``: the contact
+    functional nodes, which must carry no boundary condition), to each
+    boundary-condition state in ``states`` (checked condition mappings with
+    the same kind per dof; default: the body's own) and to unit platen
+    translations of the force-controlled components.  ``progress`` receives
+    the start and end events of the ``assembly`` and ``condensation`` stages
+    (:mod:`bemcontact.progress`).  ``linear`` chooses dense operators (LAPACK
+    LU) or compressed ones (H-matrix, H-LU with one step of iterative
+    refinement; :class:`~bemcontact.linalg.LinearSolverOptions`)."""
+    d = body.discretization
+    t0 = time.perf_counter()
+    what = f"{body.name}: {d.n_points:,} nodes, {nodes.size:,} on the contact surface"
+    if progress is not None:
+        progress(ProgressEvent("start", "assembly", f"assembly {what}"))
+    states = [body.boundary_conditions] if states is None else list(states)
+    data = [body.boundary_data(c) for c in states]
+    known_u = data[0][0]  # the same for every state (checked by ContactProblem.states)
+    controls = body.controls(states[0])
+    values = np.column_stack([v for _, v in data])
+    forces = np.array([[c.force for c in body.controls(st)] for st in states]).reshape(
+        len(states), len(controls)
+    ).T
+    dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
+    if known_u[dofs].any() or np.any(values[dofs] != 0):
+        raise ConfigError(
+            f"{body.name}: the contact surface also has a boundary condition; remove it "
+            "(the contact decides the tractions there)"
+        )
+    # rigid modes the supports leave free
+    ku = np.flatnonzero(known_u)
+    R = body.rigid_modes()
+    Rn = R / np.linalg.norm(R, axis=0)
+    if ku.size:
+        Z = scipy.linalg.null_space(Rn[ku], rcond=1e-9)
+    else:
+        Z = np.eye(6)
+    Rf = Rn @ Z
+    nf = Rf.shape[1]
+    # A in place (bordered by the free modes); B values = b0 per state, B E =
+    # -Hc for the platens, the contact columns of B = G (traction-given dofs)
+    S = len(states)
+    m = body.material
+    n = 3 * d.n_points
+    lin = linear or LinearSolverOptions()
+    W = np.column_stack([values, body.control_indicators(controls)])
+    C = (Rf * np.repeat(d.weights, 3)[:, None]).T  # equilibrium rows of the free modes
+    compressed = lin.use_hmatrix(d.n_points)
+    if compressed:
+        A = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, known_u, W, body.quadrature,
+                             lin.hmatrix, threads)
+        BW, Gc = A.BW, A.g_columns(dofs)
+    else:  # A in place, with room for the border
+        A, BW, Gc = assemble_system(
+            d, m.shear_modulus, m.poisson_ratio, known_u, W, dofs, body.quadrature, threads,
+            border=nf,
+        )
+    t1 = time.perf_counter()
+    if progress is not None:
+        progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
+        progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
+    rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
+    del Gc
+    # the free modes bordered by their equilibrium rows (zero right-hand side)
+    sol, _, solver_info = solve_bordered(
+        A, rhs, Rf, C, backend="hlu" if compressed else "lu", linear=lin,
+        exact_rhs=lambda Bs: np.column_stack([Bs @ W[:, :S], Bs[:, dofs], Bs @ W[:, S:]]),
+        where=body.name,
+    )
+    del A
+    x0 = np.ascontiguousarray(sol[:n, :S])
+    X = np.ascontiguousarray(sol[:n, S : S + dofs.size])
+    Y = np.ascontiguousarray(sol[:n, S + dofs.size :])
+    Rf[ku] = 0.0  # exactly zero on supported dofs
+    # work of the given tractions in the free modes: ∫ Rf . t_known dS
+    modal = np.zeros((nf, S))
+    if nf:
+        for s_ in range(S):
+            tk = np.where(known_u, 0.0, values[:, s_]).reshape(-1, 3)
+            _, _, W, tq = d.interpolate(tk)
+            for i in range(nf):
+                _, _, _, rq = d.interpolate(Rf[:, i].reshape(-1, 3))
+                modal[i, s_] = float(np.einsum("eq,eqk,eqk->", W, rq, tq))
+    t2 = time.perf_counter()
+    if progress is not None:
+        progress(ProgressEvent("end", "condensation", f"condensation {body.name}",
+                               seconds=t2 - t1))
+    return CondensedBody(
+        body, nodes, dofs, known_u, values, x0, X, Rf, modal, controls, Y,
+        body.control_rows(controls), forces,
+        {"assembly": t1 - t0, "condensation": t2 - t1}, solver_info,
+    )
+
+
+__all__ = ["CondensedBody", "condense"]

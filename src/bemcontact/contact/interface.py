@@ -1,0 +1,263 @@
+"""The interface system of eq. 17 after condensing the bodies: unknowns,
+the affine map to the frame's relative displacements k, the residual of the
+contact law and the other linear rows, the generalized Jacobian and the
+first-touch predictor.  Solved by :mod:`bemcontact.contact.newton`; results
+recovered by :mod:`bemcontact.contact.recovery`."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import scipy.linalg
+
+from ..mesh.element import element_geometry
+from . import law
+from .frame import ContactFrame
+from .search import locate
+
+
+def _balance(force, target: float, step: float) -> float | None:
+    """du with force(du) = target (to bisection accuracy, on the side that
+    reaches it) for a force(du) that is zero near du = 0 and grows
+    monotonically in magnitude in one direction (a penalty resultant):
+    doubling steps in each direction bracket it, then 100 bisections.
+    None when neither direction reaches ``target``."""
+    sign_t = np.sign(target)
+    for direction in (1.0, -1.0):
+        lo, h = 0.0, step
+        for _ in range(80):
+            hi = direction * h
+            f = force(hi)
+            if f != 0.0 and (f - target) * sign_t >= 0:
+                for _ in range(100):
+                    mid = 0.5 * (lo + hi)
+                    if (force(mid) - target) * sign_t >= 0:
+                        hi = mid
+                    else:
+                        lo = mid
+                return hi
+            lo, h = hi, 2.0 * h
+    return None
+
+
+class InterfaceSystem:
+    """The nonsmooth interface system of eq. 17 after condensing both bodies:
+    unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2,
+    U_1, U_2) with alpha the free rigid-mode amplitudes and U the platen
+    translations of force-controlled components.  Loads enter through the
+    weights ell (S,) over the boundary-condition states."""
+
+    def __init__(self, frame: ContactFrame, cb, mu: float, r_scale: float) -> None:
+        self.frame = frame
+        self.cb = cb
+        self.mu = float(mu)
+        act = np.flatnonzero(frame.active)
+        self.act = act
+        m = act.size
+        self.m = m
+        Q = frame.Q[act]  # (m, 3, 3)
+        a = frame.weights[act]
+        self.a = a
+        self.area = float(a.sum())
+        self.r = r_scale / frame.size[act]  # r_n = r_t = c E*/h_j
+        signs = (-1.0, 1.0)
+        self.DQ, self.T, self.W = [], [], []
+        K = np.zeros((3 * m, 3 * m))
+        k0X = np.zeros(3 * m)
+        k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
+        # extra unknowns: per body, alpha then U; L[b] their columns in k
+        self.nf = [c.Rf.shape[1] for c in cb]
+        self.nc = [c.Y.shape[1] for c in cb]
+        self.L = []
+        self.E = []
+        self.CT = []  # (nc, 3m): resultants of the controlled components per lam
+        self.CY = []  # (nc, nc): ... per platen translation
+        for i, c in enumerate(cb):
+            # tractions on the whole contact surface (M^-1 D is not local):
+            # exact balance of the two bodies' interface forces
+            D = frame.D[i][:, act]  # (n, m)
+            n = D.shape[0]
+            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i]), D)
+            # block (p, j) = coefficient * Q_j  ->  (3n, 3m)
+            DQ = signs[i] * np.einsum("pj,jcl->pcjl", D, Q).reshape(3 * n, 3 * m)
+            T = signs[i] * np.einsum("pj,jcl->pcjl", MiD, Q).reshape(3 * n, 3 * m)
+            Wm = signs[i] * np.einsum("pj,jcl->jlpc", D / a[None, :], Q).reshape(3 * m, 3 * n)
+            self.DQ.append(DQ)
+            self.T.append(T)
+            self.W.append(Wm)
+            K += Wm @ (c.F @ T)
+            if frame.rule == "mortar":
+                # positions: exact for any overlap because (*) holds
+                X = c.body.discretization.points[c.nodes].ravel()
+            else:
+                # point evaluation violates (*): take the initial gap from each
+                # node's offset to the frame surface (the paper's g0), so the
+                # position of the origin does not enter
+                X = frame.offsets(i).ravel()
+            k0X += Wm @ X
+            k0u += Wm @ c.u0
+            self.L.append(Wm @ c.Rc)
+            self.L.append(Wm @ c.Yc)
+            # equilibrium in the free rigid modes, scaled to traction units
+            self.E.append(c.Rc.T @ DQ)
+            self.CT.append((c.C @ c.X) @ T)  # (C X) first: C has a row per control
+            # a platen translation that strains nothing (the body is held only
+            # by the contact in that direction) has no resultant: make that
+            # exact, so an open contact shows as a singular Newton matrix
+            CY = c.C @ c.Y
+            E = c.body.material.youngs_modulus
+            for k_, ctl in enumerate(c.controls):
+                size = math.sqrt(c.C[k_].sum())
+                if abs(CY[k_, k_]) <= 1e-8 * E * size:
+                    CY[k_, :] = 0.0
+                    CY[:, k_] = 0.0
+            self.CY.append(CY)
+        self.K = K
+        self.k0X = k0X
+        self.k0u = k0u
+        self._located: dict[int, tuple] = {}
+        # dk/dz (3m, nz) and the linear rows besides the law (ne, nz)
+        self._dk = np.hstack([K, *[L for L in self.L if L.shape[1]]])
+        m3, nz = 3 * m, self._dk.shape[1]
+        eq = []
+        col = m3
+        for i in range(len(cb)):
+            nf, nc = self.nf[i], self.nc[i]
+            if nf:
+                r = np.zeros((nf, nz))
+                r[:, :m3] = self.E[i] / self.area
+                eq.append(r)
+            if nc:
+                r = np.zeros((nc, nz))
+                r[:, :m3] = self.CT[i] / self.area
+                r[:, col + nf : col + nf + nc] = self.CY[i] / self.area
+                eq.append(r)
+            col += nf + nc
+        self._eq = np.vstack(eq) if eq else np.zeros((0, nz))
+
+    # -- vectors
+    def zero(self) -> np.ndarray:
+        return np.zeros(3 * self.m + sum(self.nf) + sum(self.nc))
+
+    def split(self, z):
+        """lam, [alpha_1, U_1, alpha_2, U_2] (the order of self.L)."""
+        m3 = 3 * self.m
+        parts, o = [], m3
+        for nf, nc in zip(self.nf, self.nc):
+            parts += [z[o : o + nf], z[o + nf : o + nf + nc]]
+            o += nf + nc
+        return z[:m3], parts
+
+    def k(self, z: np.ndarray, ell: np.ndarray) -> np.ndarray:
+        lam, parts = self.split(z)
+        kk = self.k0X + self.k0u @ ell + self.K @ lam
+        for L, v in zip(self.L, parts):
+            if v.size:
+                kk = kk + L @ v
+        return kk.reshape(-1, 3)
+
+    def k_initial_t(self) -> np.ndarray:
+        return self.k0X.reshape(-1, 3)[:, :2].copy()
+
+    def _rows(self, lam, parts, ell):
+        """Linear equations besides the law: free-mode equilibrium and the
+        prescribed resultants of controlled components (traction units)."""
+        out = []
+        for i, c in enumerate(self.cb):
+            if self.nf[i]:
+                out.append((self.E[i] @ lam + c.known_modal_force @ ell) / self.area)
+            if self.nc[i]:
+                U = parts[2 * i + 1]
+                out.append(
+                    (c.C @ (c.x0 @ ell) + self.CT[i] @ lam + self.CY[i] @ U - c.forces @ ell)
+                    / self.area
+                )
+        return out
+
+    def residual(self, z, ell, k_prev):
+        lam, parts = self.split(z)
+        kk = self.k(z, ell)
+        phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r).ravel()
+        eq = self._rows(lam, parts, ell)
+        return np.concatenate([phi, *eq]) if eq else phi
+
+    def jacobian(self, z, ell, k_prev):
+        """The rows of the generalized Jacobian that are not those of open
+        nodes (an open node's row is the identity: lam_j = 0), with every
+        column: returns ``(J[rows], rows, state)``."""
+        lam, _ = self.split(z)
+        kk = self.k(z, ell)
+        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r)
+        m3, nz = 3 * self.m, z.size
+        closed = np.flatnonzero(state != law.OPEN)
+        cdofs = (3 * closed[:, None] + np.arange(3)).ravel()
+        rows = np.concatenate([cdofs, np.arange(m3, nz)])
+        J = np.empty((rows.size, nz))
+        mc = closed.size
+        # law rows of closed nodes: Jl_j on the diagonal block + Jk_j (dk_j/dz)
+        J[: 3 * mc] = np.einsum(
+            "jab,jbn->jan", Jk[closed], self._dk[cdofs].reshape(mc, 3, nz)
+        ).reshape(3 * mc, nz)
+        diag = J[: 3 * mc].reshape(mc, 3, nz)
+        cols = 3 * closed[:, None, None] + np.arange(3)[None, None, :]
+        np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None], cols), Jl[closed])
+        J[3 * mc :] = self._eq
+        return J, rows, state
+
+    def first_touch(self, z, ell, k_prev) -> np.ndarray:
+        """Predictor for a force-controlled body held only by the contact
+        (a sphere pushed by a force onto a block, touching at a point): with
+        every node open at ``z`` the Newton matrix is singular in the
+        platen's translation.  Each such translation (its resultant row has
+        no stiffness of its own) is moved, traction multipliers held, until
+        the augmented-Lagrangian trial pressures max(0, -r k_n) of the nodes
+        it closes balance the prescribed force: a penalty contact that
+        starts Newton with a patch of about the right size.  ``z`` is
+        returned unchanged when a node is already closed, or when no such
+        translation moves the normal gaps (it is left to the error of the
+        singular matrix)."""
+        lam, _ = self.split(z)
+        state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu, self.r, self.r)
+        if (state != law.OPEN).any():
+            return z
+        z = z.copy()
+        kn0 = self.k(z, ell)[:, 2]
+        col = 3 * self.m
+        for i, c in enumerate(self.cb):
+            nf, nc = self.nf[i], self.nc[i]
+            need = c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam if nc else ()
+            for k_ in range(nc):
+                s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
+                if np.any(self.CY[i][k_] != 0.0) or not np.any(s != 0.0) or need[k_] == 0.0:
+                    # restrained by the body's own supports, or tangential (the
+                    # friction of the closed nodes holds it), or nothing to carry
+                    continue
+                ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
+                # k is affine in z: only U_k moves
+                u = _balance(
+                    lambda du, s=s, ct=ct: float(ct @ np.maximum(0.0, -self.r * (kn0 + s * du))),
+                    float(need[k_]), max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
+                )
+                if u is not None:
+                    z[col + nf + k_] += u
+                    kn0 = kn0 + s * u
+            col += nf + nc
+        return z
+
+    def located(self, i: int):
+        """Where each contact node of body ``i`` sits on the other body's
+        contact surface: (element (n_i,), inside (n_i,), point (n_i, 3), the
+        other body's functional basis there (n_i, k)); geometry only, computed
+        once."""
+        if i not in self._located:
+            fr = self.frame
+            od = self.cb[1 - i].body.discretization
+            X = self.cb[i].body.discretization.points[self.cb[i].nodes]
+            el, xi, inside = locate(od, fr.surface_elements(1 - i), X, fr.search_distance)
+            xo, _, _ = element_geometry(od.mesh, el, xi)
+            self._located[i] = (el, inside, xo, od.basis_at(el, xi))
+        return self._located[i]
+
+
+__all__ = ["InterfaceSystem"]

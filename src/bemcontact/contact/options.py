@@ -1,0 +1,103 @@
+"""Settings of the contact solve (generalized Newton, load steps, threads,
+the condensation's linear solver)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import ConfigError
+from ..linalg.options import HMatrixOptions, LinearSolverOptions
+from ..settings import MAX_THREADS, Key, check_settings, setting
+
+
+#: The condensation's default linear solver: as LinearSolverOptions(), but
+#: leaves of 96 nodes (the H-LU is 1.15x / 1.7x faster than with 48 at 3,102 /
+#: 5,694 nodes, for 2-9 % more memory; docs/benchmarks.md).
+CONDENSATION_LINEAR = LinearSolverOptions(hmatrix=HMatrixOptions(leaf_size=96))
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Generalized Newton settings.
+
+    Attributes
+    ----------
+    tolerance:
+        Converged when max |Phi| <= tolerance * traction scale (Phi is the
+        contact-law residual in traction units; the scale is the largest
+        contact traction, or E*/h times the largest prescribed displacement
+        before contact develops).
+    max_iterations:
+        Newton iterations per load step.
+    load_steps:
+        Number of equal proportional load increments (boundary data scaled by
+        i / load_steps); friction is path dependent, so use several for
+        non-monotonic problems.
+    penalty:
+        Factor c of the augmentation parameters r_n = r_t = c E*/h (E* the
+        contact modulus, h the local frame element size).  The converged
+        solution does not depend on it.
+    line_search_sigma:
+        sigma in Psi(w + a dw) <= (1 - 2 sigma a) Psi(w).
+    min_step:
+        Smallest line-search step before giving up.
+    watchdog:
+        Full Newton steps tried without a decrease of the residual before
+        going back to the best point and searching along its direction (a
+        watchdog non-monotone line search; 0 = monotone line search on every
+        step).  Stick-to-slip transitions make the residual rise for a few
+        full steps on the way to the solution; a monotone search then takes
+        tiny steps (tens of iterations instead of a handful).
+    threads:
+        Threads for every parallel part: the OpenMP assembly and H-matrix
+        work, and BLAS/LAPACK (the condensation's LU) during the solve
+        (default: all cores, or ``OMP_NUM_THREADS``).
+    linear:
+        How each body's BEM system is stored and solved for the condensation:
+        dense LAPACK LU, or compressed operators (H-matrix, H-LU); default
+        ``"auto"``: dense up to ``linear.dense_max_nodes`` nodes per body
+        (default :data:`CONDENSATION_LINEAR`: H-matrix leaves of 96 nodes).
+    progress:
+        Print the stages, load increments and Newton iterations on stderr
+        (:func:`bemcontact.progress.print_lines`; ``ContactProblem.solve``
+        also takes any ``progress`` callable).
+    """
+
+    tolerance: float = setting(Key(
+        "tolerance", "number", "converged when max |Φ| <= tolerance × traction scale",
+        default=1e-10, lo=0, lo_open=True, hi=1, hi_open=True))
+    max_iterations: int = setting(Key(
+        "max_iterations", "integer", "Newton iterations per load increment", default=50, lo=1))
+    load_steps: int = setting(Key(
+        "load_steps", "integer", "equal proportional load increments when there are no "
+        "`[[step]]` sections (friction is path dependent)", default=1, lo=1))
+    penalty: float = setting(Key(
+        "penalty", "number", "factor c of the augmentation parameters r = c E*/h; does not "
+        "change the converged solution", default=1.0, lo=0, lo_open=True))
+    line_search_sigma: float = setting(Key(
+        "line_search_sigma", "number", "sufficient-decrease constant of the line search",
+        default=1e-4, lo=0, lo_open=True, hi=0.5, hi_open=True))
+    min_step: float = setting(Key(
+        "min_step", "number", "smallest line-search step before giving up",
+        default=2.0**-20, default_text="`2**-20`", lo=0, lo_open=True, hi=1, hi_open=True))
+    watchdog: int = setting(Key(
+        "watchdog", "integer", "full Newton steps allowed without a decrease of the residual "
+        "before returning to the best point (0: monotone line search)", default=5, lo=0))
+    threads: int | None = setting(Key(
+        "threads", "integer", "threads of every parallel part: assembly and compression "
+        "(OpenMP) and the LU (BLAS/LAPACK); the command line's `--threads` overrides it",
+        default=None, lo=1, hi=MAX_THREADS, default_text="all cores, or OMP_NUM_THREADS"))
+    progress: bool = setting(Key(
+        "progress", "boolean", "print the stages, increments and iterations on stderr",
+        default=False))
+    linear: LinearSolverOptions = CONDENSATION_LINEAR
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.linear, LinearSolverOptions):
+            raise ConfigError(
+                f"SolverOptions.linear must be LinearSolverOptions, got {self.linear!r}"
+            )
+        check_settings(self)
+
+
+__all__ = ["SolverOptions", "CONDENSATION_LINEAR"]

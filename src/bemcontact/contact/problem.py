@@ -1,0 +1,296 @@
+"""Two elastic bodies in contact: the problem, its loading history and the
+solve (condensation, then the generalized Newton method per load increment)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..bem.body import ElasticBody
+from ..errors import ConfigError, ConvergenceError
+from ..linalg.threads import blas_threads
+from ..settings import Key, check_settings, setting
+from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
+from .condensation import condense
+from .frame import ContactFrame
+from .interface import InterfaceSystem
+from .newton import newton
+from .options import SolverOptions
+from .pair import ContactPair
+from .recovery import recover
+from .results import ContactResult, StepRecord
+
+
+# --------------------------------------------------------------------------- load steps
+
+
+@dataclass(frozen=True)
+class LoadStep:
+    """One state of a loading history.
+
+    Attributes
+    ----------
+    conditions:
+        Body name -> region -> boundary condition(s) that *change* at this
+        step; every other region keeps its condition of the previous state
+        (the first step starts from the bodies' own conditions).  A step may
+        change values only, not the kind of condition of a component
+        (displacement, traction or force): to apply a tangential force later,
+        give that component ``Force`` with value 0 from the start.
+    increments:
+        The step is reached in this many equal increments, each a linear
+        interpolation between the previous state and this one (friction is
+        path dependent: use several for a path that matters).
+    label:
+        Name used in messages and results.
+
+    The history starts unloaded; slip is measured from the start of each
+    increment, so a stuck point is one with no new slip in it.
+    """
+
+    conditions: Any = field(default_factory=dict)
+    increments: int = setting(Key(
+        "increments", "integer", "the step is reached in this many linear increments from "
+        "the previous state", default=1, lo=1))
+    label: str = setting(Key(
+        "label", "string", "the step's name in messages and summary.json", default=""))
+
+    def __post_init__(self) -> None:
+        check_settings(self)
+        if not isinstance(self.conditions, Mapping) or not all(
+            isinstance(k, str) and isinstance(c, Mapping) for k, c in self.conditions.items()
+        ):
+            raise ConfigError(
+                "LoadStep.conditions must map body names to {region: condition(s)}, got "
+                f"{self.conditions!r}"
+            )
+
+
+_KIND_NAMES = ("traction", "displacement", "force")
+
+
+def _kinds(body: ElasticBody, conditions) -> np.ndarray:
+    """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
+    known_u, _ = body.boundary_data(conditions)
+    k = known_u.astype(np.int8)
+    for c in body.controls(conditions):
+        k[c.dofs] = 2
+    return k
+
+
+# --------------------------------------------------------------------------- problem
+
+
+class ContactProblem:
+    """Two elastic bodies and the contact pair between them.
+
+    Parameters
+    ----------
+    body1, body2:
+        :class:`~bemcontact.bem.body.ElasticBody` objects with distinct names.
+        Their contact surfaces must carry no boundary condition.
+    pair:
+        :class:`ContactPair`: the contact surfaces, friction, frame rule.
+    """
+
+    def __init__(self, body1: ElasticBody, body2: ElasticBody, pair: ContactPair) -> None:
+        for i, b in enumerate((body1, body2)):
+            if not isinstance(b, ElasticBody):
+                raise ConfigError(f"body{i + 1} must be an ElasticBody, got {type(b).__name__}")
+        if not isinstance(pair, ContactPair):
+            raise ConfigError(f"pair must be a ContactPair, got {type(pair).__name__}")
+        if body1.name == body2.name:
+            raise ConfigError(f"the two bodies have the same name {body1.name!r}; name them apart")
+        for b, s in ((body1, pair.surface1), (body2, pair.surface2)):
+            if s not in b.mesh.region_names:
+                raise ConfigError(
+                    f"{b.name}: unknown contact surface {s!r}; the mesh has regions "
+                    f"{list(b.mesh.region_names)}"
+                )
+            if s in b.boundary_conditions:
+                raise ConfigError(
+                    f"{b.name}: the contact surface {s!r} also has a boundary condition; remove it"
+                )
+        self.bodies = (body1, body2)
+        self.pair = pair
+        self._frame: ContactFrame | None = None
+
+    @property
+    def frame(self) -> ContactFrame:
+        if self._frame is None:
+            b1, b2 = self.bodies
+            self._frame = ContactFrame(
+                b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
+                self.pair.frame, names=(b1.name, b2.name),
+                search_distance=self.pair.search_distance,
+                owner={"coarser": None, "body1": 0, "body2": 1}[self.pair.frame_on],
+            )
+        return self._frame
+
+    def contact_modulus(self) -> float:
+        """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)."""
+        return 1.0 / sum(
+            (1 - b.material.poisson_ratio**2) / b.material.youngs_modulus for b in self.bodies
+        )
+
+    def states(self, steps) -> list[list[dict]]:
+        """The boundary-condition state reached at each step, per body
+        (checked: known bodies and regions, no condition on a contact
+        surface, the same kind of condition per component throughout)."""
+        names = [b.name for b in self.bodies]
+        surfaces = (self.pair.surface1, self.pair.surface2)
+        current = [dict(b.boundary_conditions) for b in self.bodies]
+        base = [_kinds(b, c) for b, c in zip(self.bodies, current)]
+        out = []
+        for i, step in enumerate(steps):
+            if not isinstance(step, LoadStep):
+                raise ConfigError(f"steps[{i}] must be a LoadStep, got {type(step).__name__}")
+            where = f"step {i + 1}{f' ({step.label})' if step.label else ''}: "
+            current = [dict(c) for c in current]
+            for name, changes in step.conditions.items():
+                if name not in names:
+                    raise ConfigError(f"{where}unknown body {name!r}; the bodies are {names}")
+                a = names.index(name)
+                body = self.bodies[a]
+                checked = body.checked_conditions(changes, where=where)
+                if surfaces[a] in checked:
+                    raise ConfigError(
+                        f"{where}{name}: region {surfaces[a]!r} is the contact surface; it "
+                        "cannot carry a boundary condition"
+                    )
+                current[a].update(checked)
+                kinds = _kinds(body, current[a])
+                diff = np.flatnonzero(kinds != base[a])
+                if diff.size:
+                    dof = int(diff[0])
+                    region = body.mesh.region_names[int(body.discretization.region[dof // 3])]
+                    raise ConfigError(
+                        f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} changes "
+                        f"from {_KIND_NAMES[base[a][dof]]} to {_KIND_NAMES[kinds[dof]]}; a step "
+                        "may change values, not kinds (give the component its later kind from "
+                        "the start, e.g. Force with value 0)"
+                    )
+            out.append(current)
+        return out
+
+    def solve(
+        self,
+        options: SolverOptions | None = None,
+        *,
+        steps=None,
+        raise_on_failure: bool = True,
+        progress: Reporter | None = None,
+    ) -> ContactResult:
+        """Condense both bodies, then run the generalized Newton method for
+        each increment of the loading history.
+
+        ``steps``: a sequence of :class:`LoadStep`; default one step to the
+        bodies' own conditions in ``options.load_steps`` proportional
+        increments.  Returns the result at the end of the last step, whose
+        ``history`` lists the results at the end of every step.  Raises
+        :class:`ConvergenceError` (carrying the result so far and its
+        residual history) if an increment fails, unless ``raise_on_failure``
+        is False.
+
+        ``progress``: a callable receiving :class:`~bemcontact.progress.ProgressEvent` objects
+        (stages, load increments, Newton iterations), e.g.
+        :class:`~bemcontact.progress.LiveProgress`; default
+        :func:`~bemcontact.progress.print_lines` if ``options.progress``, else none."""
+        opt = options or SolverOptions()
+        if not isinstance(opt, SolverOptions):
+            raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
+        if progress is not None and not callable(progress):
+            raise ConfigError(f"progress must be callable or None, got {progress!r}")
+        report = progress if progress is not None else (print_lines if opt.progress else None)
+        if steps is None:
+            steps = [LoadStep(increments=opt.load_steps)]
+        steps = list(steps)
+        if not steps:
+            raise ConfigError("steps must hold at least one LoadStep")
+        states = self.states(steps)
+        # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
+        with blas_threads(opt.threads):
+            return self._solve(opt, steps, states, raise_on_failure, report)
+
+    def _solve(self, opt, steps, states, raise_on_failure, report) -> ContactResult:
+        t0 = time.perf_counter()
+        with Stopwatch(report, "frame", "contact frame"):
+            frame = self.frame
+        t1 = time.perf_counter()
+        cb = tuple(
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report, opt.linear)
+            for a, b in enumerate(self.bodies)
+        )
+        t2 = time.perf_counter()
+        system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
+        t3 = time.perf_counter()
+        records: list[StepRecord] = []
+        history: list[ContactResult] = []
+        z = system.zero()
+        k_prev = system.k_initial_t()
+        failed: str | None = None
+        S = len(steps)
+        ell = np.zeros(S)
+        total = sum(st.increments for st in steps)
+        done = 0
+        for s_, step in enumerate(steps):
+            prev = ell.copy()
+            target = np.zeros(S)
+            target[s_] = 1.0
+            name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
+            for i in range(1, step.increments + 1):
+                tau = i / step.increments
+                ell = (1 - tau) * prev + tau * target
+                k_start = k_prev
+                done += 1
+                if report is not None:
+                    report(ProgressEvent("increment", "newton",
+                                         f"{name} increment {i}/{step.increments}",
+                                         index=done, total=total))
+                z, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total)
+                rec.load_factor = tau
+                rec.step = s_ + 1
+                rec.label = step.label
+                records.append(rec)
+                if msg is not None:
+                    failed = f"{name}, increment {i}/{step.increments}: {msg}"
+                    break
+                k_prev = system.k(z, ell)[:, :2].copy()
+            if failed is not None:
+                break
+            if S > 1:
+                res = recover(system, z, ell, k_start, list(records), self.bodies)
+                res.label = step.label
+                history.append(res)
+        t4 = time.perf_counter()
+        if report is not None and failed is None:
+            its = sum(r.iterations for r in records)
+            report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
+                                 "iteration(s)", index=total, total=total, seconds=t4 - t3))
+        # states are those of the last increment, judged against its starting slip
+        result = recover(system, z, ell, k_start, records, self.bodies)
+        result.label = steps[len(history) if failed else -1].label
+        result.history = history if S > 1 else [result]
+        result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}
+        result.timings = {
+            "frame": t1 - t0,
+            "assembly": sum(c.timings["assembly"] for c in cb),
+            "condensation": sum(c.timings["condensation"] for c in cb) + (t3 - t2),
+            "newton": t4 - t3,
+            "total": time.perf_counter() - t0,
+        }
+        if failed is not None and raise_on_failure:
+            hist = ", ".join(f"{r:.3e}" for r in records[-1].residual_history)
+            raise ConvergenceError(
+                f"contact solve did not converge at {failed}; scaled residual history: [{hist}]",
+                result,
+            )
+        return result
+
+
+
+__all__ = ["ContactProblem", "LoadStep"]

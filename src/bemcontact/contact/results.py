@@ -1,0 +1,198 @@
+"""Results of a contact solve: per interface node of each body, per frame
+node, per region, and global.
+
+Conventions (docs/theory.md): global x, y, z components; pressure > 0
+compressive; gap > 0 open; tangential traction is the tangential part of the
+traction acting *on that body*; slip is the tangential displacement of that
+body relative to the other body at the same place (accumulated over the load
+steps); state codes 0 open, 1 stick, 2 slip (:data:`bemcontact.contact.law.STATE_NAMES`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..bem.body import BodySolution
+from .law import STATE_NAMES
+
+
+def state_counts(state: np.ndarray) -> dict[str, int]:
+    """Number of nodes per state name (open, stick, slip)."""
+    return {name: int(np.count_nonzero(state == i)) for i, name in enumerate(STATE_NAMES)}
+
+
+@dataclass
+class NodalContactFields:
+    """The contact fields shared by the frame's and each body's interface
+    nodes (n nodes): points, normals (n, 3); pressure (n,), > 0 compressive;
+    tangential_traction (n, 3); gap (n,), > 0 open; slip (n, 3); state (n,)
+    int8, 0 open / 1 stick / 2 slip; weights (n,), ∫ of each node's basis."""
+
+    points: np.ndarray
+    normals: np.ndarray
+    pressure: np.ndarray
+    tangential_traction: np.ndarray
+    gap: np.ndarray
+    slip: np.ndarray
+    state: np.ndarray
+    weights: np.ndarray
+
+    def counts(self) -> dict[str, int]:
+        """Number of nodes per state name."""
+        return state_counts(self.state)
+
+
+@dataclass
+class InterfaceResult(NodalContactFields):
+    """Fields at the n contact-surface functional nodes of one body.
+
+    Attributes (besides :class:`NodalContactFields`')
+    ----------
+    body: body name.  surface: its contact region.
+    nodes: (n,) functional node indices into the body's solution arrays.
+    points: (n, 3) positions (undeformed).  normals: (n, 3) outward unit normals.
+    displacement: (n, 3).  traction: (n, 3) traction on this body.
+    tangential_traction: (n, 3) on this body.
+    gap: (n,) normal gap to the other body.
+    slip: (n, 3) tangential displacement relative to the other body.
+    """
+
+    body: str = ""
+    surface: str = ""
+    nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    displacement: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    traction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+
+
+@dataclass
+class FrameResult(NodalContactFields):
+    """Fields at the m contact-frame nodes (the law's unknowns).
+
+    points, normals: (m, 3); the normal points from body 1 into body 2.
+    pressure: (m,) normal traction on body 2, > 0 compressive.
+    tangential_traction: (m, 3) tangential traction on body 2 (global).
+    gap: (m,) weighted normal gap, > 0 open.
+    slip: (m, 3) relative tangential displacement of body 2 w.r.t. body 1.
+    state: (m,) int8.  weights: (m,) ∫ N_j dS.
+    """
+
+
+@dataclass
+class StepRecord:
+    """One load increment: its fraction ``load_factor`` of the way from the
+    previous state to step ``step`` (1-based; ``label`` its name), Newton
+    iterations and the history of the scaled residual norm max|Phi| /
+    traction scale (one entry per iterate, the first for the starting
+    point)."""
+
+    load_factor: float
+    iterations: int
+    residual_history: list[float]
+    converged: bool
+    line_search_steps: list[float] = field(default_factory=list)
+    step: int = 1
+    label: str = ""
+
+
+@dataclass
+class ContactResult:
+    """Everything a contact solve produces.
+
+    Attributes
+    ----------
+    converged: every load step converged.
+    newton_iterations: total over the load steps.
+    steps: one :class:`StepRecord` per load step.
+    normal_force: N, > 0 compressive: normal force body 1 exerts on body 2.
+    tangential_force: N, magnitude of the tangential (friction) force on body 2.
+    contact_force: (3,) global force body 1 exerts on body 2 (N).
+    bodies: the two :class:`~bemcontact.bem.body.BodySolution` (whole surfaces).
+    names: the two body names.
+    interfaces: the two :class:`InterfaceResult`.
+    frame: :class:`FrameResult`.
+    timings: seconds per stage (assembly, condensation, frame, newton, total).
+    control_displacements: body name -> region -> (3,) translation of each
+        force-controlled region (NaN in components not force controlled).
+    label: the label of the load step this result ends.
+    history: the results at the end of every load step (the last is this
+        one's state); a one-step solve holds just this result.
+    linear: body name -> how its system was solved (``method`` "dense" or
+        "hmatrix"; for compressed operators also sizes in MB, seconds, the
+        H-LU residual and the sampled exact residual).
+    """
+
+    converged: bool
+    newton_iterations: int
+    steps: list[StepRecord]
+    normal_force: float
+    tangential_force: float
+    contact_force: np.ndarray
+    bodies: tuple[BodySolution, BodySolution]
+    names: tuple[str, str]
+    interfaces: tuple[InterfaceResult, InterfaceResult]
+    frame: FrameResult
+    timings: dict[str, float] = field(default_factory=dict)
+    control_displacements: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
+    label: str = ""
+    history: list = field(default_factory=list)
+    linear: dict = field(default_factory=dict)
+
+    def reactions(self) -> dict[str, dict[str, np.ndarray]]:
+        """Body name -> region -> resultant force (3,) the surroundings
+        (supports, loads and the other body) exert on that region."""
+        return {n: b.reactions() for n, b in zip(self.names, self.bodies)}
+
+    def summary(self) -> dict:
+        """JSON-ready summary (the top level of ``summary.json``)."""
+        return {
+            "converged": bool(self.converged),
+            "newton_iterations": int(self.newton_iterations),
+            "normal_force": float(self.normal_force),
+            "tangential_force": float(self.tangential_force),
+            "contact_force": [float(c) for c in self.contact_force],
+            "load_steps": [
+                {
+                    "step": s.step,
+                    "label": s.label,
+                    "load_factor": s.load_factor,
+                    "iterations": s.iterations,
+                    "converged": s.converged,
+                    "residual_history": [float(r) for r in s.residual_history],
+                }
+                for s in self.steps
+            ],
+            "states": {
+                "frame": self.frame.counts(),
+                **{f"{i.body}": i.counts() for i in self.interfaces},
+            },
+            "reactions": {
+                b: {r: [float(c) for c in f] for r, f in regs.items()}
+                for b, regs in self.reactions().items()
+            },
+            "control_displacements": _controls_json(self.control_displacements),
+            "history": [
+                {
+                    "label": h.label,
+                    "normal_force": float(h.normal_force),
+                    "tangential_force": float(h.tangential_force),
+                    "contact_force": [float(c) for c in h.contact_force],
+                    "control_displacements": _controls_json(h.control_displacements),
+                    "states": h.frame.counts(),
+                }
+                for h in self.history
+            ],
+            "timings": {k: float(v) for k, v in self.timings.items()},
+            "linear": self.linear,
+        }
+
+
+def _controls_json(controls: dict[str, dict[str, np.ndarray]]) -> dict:
+    return {
+        b: {r: [None if np.isnan(c) else float(c) for c in u] for r, u in regs.items()}
+        for b, regs in controls.items()
+    }
+
+
+__all__ = ["InterfaceResult", "FrameResult", "StepRecord", "ContactResult"]

@@ -1,0 +1,477 @@
+"""Writing contact results to disk: JSON summary, VTU (ParaView) and CSV.
+
+Files written by :func:`write_results` into ``out_dir`` (``<body>`` is a body
+name; columns and units in ``docs/problem-file.md``; which of them are written
+is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
+
+* ``summary.json``: :meth:`ContactResult.summary` plus ``version``, ``names``
+  (body 1, body 2) and ``problem`` (the problem file's echo, if given).
+* ``<body>.vtu``: the body's whole surface.
+* ``<body>_interface.vtu``, ``<body>_interface.csv``: its contact surface.
+* ``frame.vtu``, ``frame.csv``: the contact frame nodes.
+* ``<name>.pvd`` for each of the VTU files above, with ``steps/<name>_<k>.vtu``
+  (k = 001, 002, ...): the state at the end of every load step, a time series
+  for ParaView (time = step number).
+* ``frame_tractions.png``: contact pressure and tangential traction on the frame.
+
+VTU points are the *functional nodes* of the discretization (the collocation
+points, where the solution lives), not the mesh nodes: away from edges they
+coincide; at edges and corners each element has its own copy of a node,
+moved toward the element centroid (docs/theory.md), and the values there are
+per element.  Each cell is a mesh element drawn through its own functional
+nodes (``Discretization.fconn``): a valid cell of the same type, slightly
+shrunk where its nodes are shifted, so a surface plot shows thin gaps along
+the edges of the body and every nodal value exactly as computed, with no
+interpolation or averaging.
+
+Writing is all or nothing: everything goes into a fresh temporary directory
+next to ``out_dir`` first and is moved into place only when every file is
+complete; on any error the temporary directory (and any parent directory this
+call created) is removed and ``out_dir`` is left as it was.  Files of an
+earlier run in ``out_dir`` that this run does not produce are left alone.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import math
+import os
+import pathlib
+import re
+import secrets
+import shutil
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..contact.results import ContactResult
+from ..errors import ConfigError
+from ..settings import Key, check_settings, setting
+from ..mesh.element import CORNERS
+
+#: Columns of ``<body>_interface.csv``.
+INTERFACE_COLUMNS = (
+    "x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y", "slip_z", "state",
+    "ux", "uy", "uz",
+)  # fmt: skip
+#: Columns of ``frame.csv``.
+FRAME_COLUMNS = (
+    "x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y", "slip_z", "state",
+    "nx", "ny", "nz", "weight",
+)  # fmt: skip
+_MESHIO_CELL = {"tri3": "triangle", "tri6": "triangle6", "quad4": "quad", "quad8": "quad8",
+                "quad9": "quad9"}  # fmt: skip
+_SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
+
+
+# --------------------------------------------------------------------------- public
+
+
+@dataclass(frozen=True)
+class OutputOptions:
+    """Which files :func:`write_results` writes (``summary.json`` always).
+
+    Attributes
+    ----------
+    vtu: ParaView files of the bodies' surfaces, interfaces and the frame.
+    csv: CSV tables of the interface and frame nodes.
+    figures: ``frame_tractions.png`` (needs matplotlib).
+    steps: ``"all"``: VTU files for every load step in ``steps/`` and PVD
+        collections; ``"last"``: the final state only.
+    """
+
+    vtu: bool = setting(Key(
+        "vtu", "boolean", "ParaView files of each body's surface and interface and of the "
+        "frame", default=True))
+    csv: bool = setting(Key(
+        "csv", "boolean", "CSV tables of the interface and frame nodes", default=True))
+    figures: bool = setting(Key(
+        "figures", "boolean", "PNG figures (contact pressure and tangential traction on the "
+        "frame; needs matplotlib)", default=True))
+    steps: str = setting(Key(
+        "steps", "string", "`all`: VTU files for every load step and PVD collections; "
+        "`last`: the final state only", default="all", choices=("all", "last")))
+
+    def __post_init__(self) -> None:
+        check_settings(self)
+
+
+def summary(
+    result: ContactResult | Mapping[str, Any],
+    problem_echo: Mapping[str, Any] | None = None,
+    error: str | None = None,
+) -> dict[str, Any]:
+    """The content of ``summary.json``: ``result.summary()`` (or a given dict)
+    with ``version``, ``names``, ``problem`` and ``error`` added, non-finite
+    numbers turned into ``null`` (strict JSON)."""
+    from .._version import __version__
+
+    if isinstance(result, ContactResult):
+        s: dict[str, Any] = {**result.summary(), "names": list(result.names)}
+    elif isinstance(result, Mapping):
+        s = dict(result)
+    else:
+        raise ConfigError(
+            f"summary: expected a ContactResult or a dict, got {type(result).__name__}"
+        )
+    s["version"] = __version__
+    s["versions"] = _versions()
+    if problem_echo is not None:
+        s["problem"] = dict(problem_echo)
+    if error is not None:
+        s["error"] = error
+    return _json_ready(s)
+
+
+def _versions() -> dict[str, str]:
+    """Versions of bemcontact, Python and the numerical libraries."""
+    import platform
+
+    import scipy
+
+    from .._version import __version__
+
+    out = {"bemcontact": __version__, "python": platform.python_version(),
+           "numpy": np.__version__, "scipy": scipy.__version__}
+    try:
+        import meshio
+
+        out["meshio"] = meshio.__version__
+    except (ImportError, AttributeError):  # pragma: no cover - meshio is a dependency
+        pass
+    return out
+
+
+def write_results(
+    result: ContactResult,
+    out_dir: str | os.PathLike,
+    problem_echo: Mapping[str, Any] | None = None,
+    options: OutputOptions | None = None,
+) -> list[pathlib.Path]:
+    """Write the result files into ``out_dir`` (all or nothing, see the
+    module docstring) and return their paths (the per-step VTU files in
+    ``steps/`` are not listed: the PVD files name them).
+
+    Raises :class:`ConfigError` if a body name cannot name a file or
+    ``options`` asks for figures without matplotlib, ``OSError`` if the files
+    cannot be written.
+    """
+    if not isinstance(result, ContactResult):
+        raise ConfigError(f"write_results: expected a ContactResult, got {type(result).__name__}")
+    opt = OutputOptions() if options is None else options
+    if not isinstance(opt, OutputOptions):
+        raise ConfigError(f"write_results: options must be OutputOptions, got {opt!r}")
+    if opt.figures:
+        require_matplotlib("write_results: figures")
+    names = list(result.names)
+    for n in names:
+        if not isinstance(n, str) or not _SAFE_NAME.match(n):
+            raise ConfigError(
+                f"write_results: body name {n!r} cannot name a file; use letters, digits, "
+                "'_', '-' and '.'"
+            )
+    series = [*names, *(f"{n}_interface" for n in names), "frame"]
+    files = ["summary.json"]
+    if opt.vtu:
+        files += [f"{n}.vtu" for n in series]
+        if opt.steps == "all":
+            files += [f"{n}.pvd" for n in series]
+    if opt.csv:
+        files += [f"{n}_interface.csv" for n in names] + ["frame.csv"]
+    if opt.figures:
+        files.append("frame_tractions.png")
+    if len(set(files)) != len(files):
+        raise ConfigError(
+            f"write_results: the body names {names} give clashing file names; rename the bodies"
+        )
+    history = list(result.history) or [result]
+    with _staging(out_dir) as tmp:
+        _write_json(tmp / "summary.json", summary(result, problem_echo))
+        if opt.vtu:
+            _write_state_vtus(tmp, result, "")
+            if opt.steps == "all":
+                (tmp / "steps").mkdir()
+                width = max(3, len(str(len(history))))
+                for k, state in enumerate(history, start=1):
+                    _write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}")
+                for n in series:
+                    _write_pvd(tmp / f"{n}.pvd", [
+                        (k, f"steps/{n}_{k:0{width}d}.vtu") for k in range(1, len(history) + 1)
+                    ])  # fmt: skip
+        if opt.csv:
+            for iface in result.interfaces:
+                _write_interface_csv(tmp / f"{iface.body}_interface.csv", iface)
+            _write_frame_csv(tmp / "frame.csv", result.frame)
+        if opt.figures:
+            from .plot import plot_frame_tractions
+
+            plot_frame_tractions(result, tmp / "frame_tractions.png", cells=_frame_cells(result))
+    out = pathlib.Path(out_dir)
+    return [out / f for f in files]
+
+
+def require_matplotlib(what: str) -> None:
+    """Raise ConfigError naming ``what`` if matplotlib cannot be imported."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise ConfigError(
+            f"{what}: needs matplotlib, which is not installed; pip install matplotlib, or "
+            "turn figures off (problem file: [output] figures = false)"
+        ) from None
+
+
+def _write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str) -> None:
+    for sol, n in zip(result.bodies, result.names):
+        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol)
+    for sol, iface in zip(result.bodies, result.interfaces):
+        _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
+    _write_frame_vtu(directory / f"frame{suffix}.vtu", result)
+
+
+def _write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
+    """A ParaView collection: one ``DataSet`` per (time, relative file)."""
+    lines = [
+        '<?xml version="1.0"?>',
+        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
+        "  <Collection>",
+        *(f'    <DataSet timestep="{t:g}" group="" part="0" file="{f}"/>' for t, f in entries),
+        "  </Collection>",
+        "</VTKFile>",
+    ]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def write_summary(
+    result_or_dict: ContactResult | Mapping[str, Any],
+    out_dir: str | os.PathLike,
+    problem_echo: Mapping[str, Any] | None = None,
+    error: str | None = None,
+) -> pathlib.Path:
+    """Write only ``summary.json`` (atomically), e.g. the diagnostic summary
+    of a solve that did not converge (``ConvergenceError.result``, with the
+    error message as ``error``).  Returns its path."""
+    data = summary(result_or_dict, problem_echo, error)
+    with _staging(out_dir) as tmp:
+        _write_json(tmp / "summary.json", data)
+    return pathlib.Path(out_dir) / "summary.json"
+
+
+def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> pathlib.Path:
+    """Write ``data`` as JSON to ``path`` atomically (a temporary file in the
+    same directory, then a rename): an error never leaves a partial file."""
+    path = pathlib.Path(path)
+    if not path.parent.is_dir():
+        raise ConfigError(f"{path}: directory {path.parent} does not exist")
+    tmp = path.parent / f".{path.name}.tmp-{secrets.token_hex(4)}"
+    try:
+        _write_json(tmp, data)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+
+# --------------------------------------------------------------------------- staging
+
+
+@contextlib.contextmanager
+def _staging(out_dir: str | os.PathLike) -> Iterator[pathlib.Path]:
+    """A fresh directory next to ``out_dir`` to write into; on success its
+    files are moved into ``out_dir`` (the directory itself is renamed when
+    ``out_dir`` does not exist yet), on failure everything is removed."""
+    out = pathlib.Path(out_dir).absolute()
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{os.fspath(out_dir)}: exists and is not a directory")
+    created: list[pathlib.Path] = []
+    parent = out.parent
+    missing = []
+    while not parent.exists():
+        missing.append(parent)
+        parent = parent.parent
+    tmp: pathlib.Path | None = None
+    try:
+        for d in reversed(missing):
+            d.mkdir()
+            created.append(d)
+        tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(4)}"
+        tmp.mkdir()
+        yield tmp
+        if not out.exists():
+            tmp.rename(out)
+        else:
+            for f in sorted(tmp.iterdir()):
+                target = out / f.name
+                if f.is_dir() and target.is_dir():  # a whole subdirectory is replaced
+                    old = out / f".{f.name}.old-{secrets.token_hex(4)}"
+                    target.rename(old)
+                    f.rename(target)
+                    shutil.rmtree(old, ignore_errors=True)
+                else:
+                    os.replace(f, target)
+            tmp.rmdir()
+    except BaseException:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        for d in reversed(created):
+            with contextlib.suppress(OSError):
+                d.rmdir()
+        raise
+
+
+# --------------------------------------------------------------------------- writers
+
+
+def _json_ready(obj: Any) -> Any:
+    if isinstance(obj, Mapping):
+        return {str(k): _json_ready(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple, np.ndarray)):
+        return [_json_ready(v) for v in obj]
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    return obj
+
+
+def _write_json(path: pathlib.Path, data: Mapping[str, Any]) -> None:
+    with open(path, "w") as f:
+        json.dump(data, f, indent=2, allow_nan=False)
+        f.write("\n")
+
+
+def _fmt(v: Any) -> str:
+    return format(float(v), ".17g")
+
+
+def _write_csv(
+    path: pathlib.Path, columns: tuple[str, ...], table: np.ndarray, int_cols: tuple = ()
+) -> None:
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(columns)
+        for row in table:
+            w.writerow(
+                [str(int(v)) if c in int_cols else _fmt(v) for c, v in zip(columns, row)]
+            )
+
+
+def _write_interface_csv(path: pathlib.Path, iface) -> None:
+    table = np.column_stack([
+        iface.points, iface.pressure, iface.tangential_traction, iface.gap, iface.slip,
+        iface.state.astype(float), iface.displacement,
+    ])  # fmt: skip
+    _write_csv(path, INTERFACE_COLUMNS, table, ("state",))
+
+
+def _write_frame_csv(path: pathlib.Path, frame) -> None:
+    table = np.column_stack([
+        frame.points, frame.pressure, frame.tangential_traction, frame.gap, frame.slip,
+        frame.state.astype(float), frame.normals, frame.weights,
+    ])  # fmt: skip
+    _write_csv(path, FRAME_COLUMNS, table, ("state",))
+
+
+def _write_vtu(path: pathlib.Path, points, cells, point_data, cell_data=None) -> None:
+    import meshio
+
+    mesh = meshio.Mesh(
+        np.ascontiguousarray(points, dtype=float),
+        cells,
+        point_data={k: np.ascontiguousarray(v) for k, v in point_data.items()},
+        cell_data=cell_data or {},
+    )
+    meshio.write(os.fspath(path), mesh, file_format="vtu")
+
+
+def _element_cells(disc, elements: np.ndarray, local: np.ndarray | None = None):
+    """meshio cells of ``elements`` through their functional nodes (renumbered
+    by ``local``: functional node -> point index, -1 absent), or None if a node
+    is absent."""
+    mesh = disc.mesh
+    k = mesh.elements.shape[1]
+    conn = disc.fconn[elements, :k]
+    if local is not None:
+        conn = local[conn]
+        if (conn < 0).any():
+            return None
+    return [(_MESHIO_CELL[mesh.element_type], np.ascontiguousarray(conn, dtype=np.int64))]
+
+
+def _vertices(n: int):
+    return [("vertex", np.arange(n, dtype=np.int64)[:, None])]
+
+
+def _write_body_vtu(path: pathlib.Path, sol) -> None:
+    d = sol.discretization
+    cells = _element_cells(d, np.arange(d.mesh.n_elements))
+    _write_vtu(
+        path, sol.points, cells,
+        {
+            "displacement": sol.displacement, "traction": sol.traction, "normal": sol.normals,
+            "weight": sol.weights, "region": sol.region.astype(np.int32),
+        },
+        {"region": [d.mesh.element_region.astype(np.int32)]},
+    )
+
+
+def _write_interface_vtu(path: pathlib.Path, sol, iface) -> None:
+    d = sol.discretization
+    local = np.full(d.n_points, -1, dtype=np.int64)
+    local[iface.nodes] = np.arange(iface.nodes.size)
+    elements = d.mesh.region(iface.surface)
+    cells = _element_cells(d, elements, local) or _vertices(iface.nodes.size)
+    _write_vtu(
+        path, iface.points, cells,
+        {
+            "pressure": iface.pressure, "tangential_traction": iface.tangential_traction,
+            "gap": iface.gap, "slip": iface.slip, "state": iface.state.astype(np.int8),
+            "displacement": iface.displacement, "traction": iface.traction,
+            "normal": iface.normals, "weight": iface.weights,
+        },
+    )
+
+
+def _frame_cells(result: ContactResult):
+    """The frame's elements: the frame lies on the corner nodes of one body's
+    contact elements (frame.py); find that body and rebuild the linear cells,
+    else None.  The match is checked against the frame's points."""
+    pts = result.frame.points
+    for sol, iface in zip(result.bodies, result.interfaces):
+        mesh = sol.discretization.mesh
+        nc = CORNERS[mesh.element_type]
+        corners = mesh.elements[mesh.region(iface.surface), :nc]
+        geo, inv = np.unique(corners, return_inverse=True)
+        if geo.size == pts.shape[0] and np.allclose(mesh.nodes[geo], pts, rtol=0, atol=1e-12 * (
+            1.0 + np.abs(pts).max()
+        )):
+            kind = "quad" if nc == 4 else "triangle"
+            return [(kind, inv.reshape(corners.shape).astype(np.int64))]
+    return None
+
+
+def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
+    fr = result.frame
+    cells = _frame_cells(result) or _vertices(fr.points.shape[0])
+    _write_vtu(
+        path, fr.points, cells,
+        {
+            "pressure": fr.pressure, "tangential_traction": fr.tangential_traction,
+            "gap": fr.gap, "slip": fr.slip, "state": fr.state.astype(np.int8),
+            "normal": fr.normals, "weight": fr.weights,
+        },
+    )
+
+
+__all__ = [
+    "OutputOptions", "write_results", "require_matplotlib", "write_summary", "summary", "INTERFACE_COLUMNS", "FRAME_COLUMNS",
+]  # fmt: skip

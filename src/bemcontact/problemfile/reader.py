@@ -1,0 +1,479 @@
+"""Problem files: a TOML description of a two-body contact problem.
+
+:func:`load_problem` reads and checks a problem file completely (meshes are
+built and read, materials and boundary conditions checked, the contact
+surfaces located and, by default, the contact frame built) before any BEM
+numerics run, and returns a :class:`ProblemFile`.  The format is documented in
+``docs/problem-file.md``; in short::
+
+    title = "two cubes"                 # optional
+    units = { length = "mm", force = "N", stress = "MPa" }   # optional labels
+
+    [solver]                            # optional: SolverOptions fields
+    tolerance = 1e-10
+
+    [[body]]                            # exactly two
+    name = "lower"
+    mesh = { box = { lower = [0, 0, 0], upper = [2, 2, 2], divisions = 6 } }
+    material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }
+    [body.boundary_conditions.zmin]
+    displacement = [0, 0, 0]
+
+    [contact]
+    bodies = ["lower", "upper"]
+    surfaces = ["zmax", "zmin"]
+    friction_coefficient = 0.1
+
+Every problem in the file is reported as a :class:`~bemcontact.errors.ConfigError`
+with a one-line message ``<file>: <field>: <what is wrong>, got <value>`` (plus a
+fix where one is obvious).  Field paths are dotted and index the ``[[body]]``
+array by position as written in the file, starting at 0: ``body[1].material.
+poisson_ratio``, ``body[0].boundary_conditions.zmin.displacement[2]``,
+``contact.surfaces[1]``.  Errors that concern the whole file (unreadable, not
+valid TOML) have no field part.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import os
+import pathlib
+import re
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
+from ..contact import ContactPair, ContactProblem, LoadStep, SolverOptions
+from ..errors import BemcontactError, ConfigError
+from ..linalg import HMatrixOptions, LinearSolverOptions
+from ..mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
+from ..output.write import OutputOptions, require_matplotlib
+from . import schema
+from .checks import FREE, Checker, a_type, one_line, suggest
+
+#: Body names must be usable as file names (results are written to ``<name>.vtu``).
+NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
+#: Body names that would collide with other output files.
+RESERVED_NAMES = ("frame", "summary")
+
+
+@dataclass(frozen=True)
+class ProblemFile:
+    """A checked problem file.
+
+    Attributes
+    ----------
+    path: the problem file.
+    title: its ``title`` ('' if not given).
+    units: its ``units`` labels (e.g. ``{"length": "mm"}``; not used in any
+        computation: the numbers must already be in one consistent set).
+    bodies: the two :class:`~bemcontact.bem.body.ElasticBody`, in the order of
+        ``contact.bodies`` (body 1 first: the contact normal points from body 1
+        into body 2 and ``normal_force`` is the force body 1 exerts on body 2).
+    pair: the :class:`~bemcontact.contact.ContactPair`.
+    options: the :class:`~bemcontact.contact.SolverOptions`.
+    steps: the :class:`~bemcontact.contact.LoadStep` history of the
+        ``[[step]]`` sections (empty: one step to the bodies' conditions).
+    output: the :class:`~bemcontact.output.write.OutputOptions` of the ``[output]``
+        table (which files ``bemcontact run`` writes).
+    echo: ``{"file": str(path), **content}``, the file's content as written
+        (JSON-ready; written into ``summary.json``).
+    """
+
+    path: pathlib.Path
+    title: str
+    units: Mapping[str, str]
+    bodies: tuple[ElasticBody, ElasticBody]
+    pair: ContactPair
+    options: SolverOptions
+    echo: dict[str, Any]
+    steps: tuple[LoadStep, ...] = ()
+    output: OutputOptions = OutputOptions()
+    _contact: ContactProblem = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_contact", ContactProblem(*self.bodies, self.pair))
+
+    def contact_problem(self) -> ContactProblem:
+        """The :class:`~bemcontact.contact.ContactProblem` (the same object on
+        every call, so a frame built while loading is reused by the solve)."""
+        return self._contact
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> ProblemFile:
+    """Read and check a problem file.
+
+    Parameters
+    ----------
+    path:
+        The TOML file.  Mesh files named in it are relative to its directory.
+    check_overlap:
+        Also build the contact frame, which finds contact surfaces that do
+        not face each other (reported on ``contact.surfaces``).  The frame is
+        kept and reused by the solve.
+
+    Raises
+    ------
+    ConfigError
+        For every problem with the file, the meshes it names, the materials
+        or the boundary conditions (one-line message, see the module docstring).
+    """
+    p = pathlib.Path(path)
+    src = os.fspath(path)
+    try:
+        with open(p, "rb") as f:
+            content = tomllib.load(f)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"{src}: not a valid TOML file: {one_line(str(exc))}") from None
+    except UnicodeDecodeError as exc:
+        raise ConfigError(
+            f"{src}: not a UTF-8 text file (byte {exc.start}: {exc.reason}); problem files are "
+            "TOML, which is UTF-8"
+        ) from None
+    except IsADirectoryError:
+        raise ConfigError(f"{src}: is a directory, not a problem file") from None
+    except OSError as exc:
+        raise ConfigError(
+            f"{src}: cannot read the problem file: {exc.strerror or exc}"
+        ) from None
+    return _Reader(src, p.parent).problem(p, content, check_overlap)
+
+
+class _Reader(Checker):
+    """Reads one file's sections into bodies, a pair, options and steps."""
+
+    # --------------------------------------------------------------- sections
+    def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> ProblemFile:
+        R = schema.ROOT
+        self.table("", content, R)
+        top = self.fields("", content, R)
+        units = self.units(content.get("units", {}))
+        options = self.solver(content.get("solver", {}))
+        raw_bodies = content["body"]
+        if not isinstance(raw_bodies, list) or not all(isinstance(b, dict) for b in raw_bodies):
+            self.fail("body", "must be an array of tables", raw_bodies,
+                      "write each body as a [[body]] section")
+        if len(raw_bodies) != 2:
+            self.fail(
+                "body", f"exactly two [[body]] sections are needed, not {len(raw_bodies)}",
+                [b.get("name") for b in raw_bodies],
+            )
+        names = [self.body_name(i, b) for i, b in enumerate(raw_bodies)]
+        if names[0] == names[1]:
+            self.fail("body[1].name", "duplicate body name (body[0] has it too)", names[1],
+                      "give each body its own name")
+        meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
+        materials = [
+            self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
+        ]
+        order, surfaces, pair, penalty = self.contact(content["contact"], names, meshes)
+        if penalty is not None:
+            options = dataclasses.replace(options, penalty=penalty)
+        output = self.output(content.get("output", {}))
+        bodies = []
+        for i, b in enumerate(raw_bodies):
+            contact_surface = surfaces[order.index(i)]
+            bcs = self.boundary_conditions(
+                f"body[{i}].boundary_conditions", b.get("boundary_conditions", {}), meshes[i],
+                contact_surface, f"contact.surfaces[{order.index(i)}]",
+            )
+            where = f"body[{i}].mesh"
+            try:
+                bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
+            except BemcontactError as exc:  # the closed/oriented surface check
+                self.wrap(where, exc, b["mesh"])
+        ordered = (bodies[order[0]], bodies[order[1]])
+        echo = {"file": str(path), **copy.deepcopy(content)}
+        steps = self.steps(content.get("step", []), names, meshes, surfaces, order)
+        problem = ProblemFile(path, top["title"], units, ordered, pair, options, echo, steps, output)
+        if steps:
+            try:
+                problem.contact_problem().states(steps)
+            except ConfigError as exc:
+                text = one_line(str(exc))
+                m = re.match(r"^step (\d+)", text)
+                k = int(m.group(1)) - 1 if m else 0
+                self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
+        if check_overlap:
+            try:
+                problem.contact_problem().frame
+            except ConfigError as exc:
+                self.wrap("contact.surfaces", exc, list(surfaces))
+        return problem
+
+    def steps(self, value, names, meshes, surfaces, order) -> tuple[LoadStep, ...]:
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            self.fail("step", "must be an array of tables", value,
+                      "write each load step as a [[step]] section")
+        out = []
+        for k, raw in enumerate(value):
+            where = f"step[{k}]"
+            t = self.table(where, raw, schema.STEP)
+            f = self.fields(where, t, schema.STEP)
+            bwhere = f"{where}.boundary_conditions"
+            bcs = t.get("boundary_conditions", {})
+            if not isinstance(bcs, dict):
+                self.fail(bwhere, f"must be a table of bodies, not {a_type(bcs)}", bcs)
+            changes = {}
+            for name, regions in bcs.items():
+                if name not in names:
+                    self.fail(f"{bwhere}.{name}", f"no body of that name (bodies: "
+                              f"{', '.join(names)})", name, suggest(name, names))
+                i = names.index(name)
+                changes[name] = self.boundary_conditions(
+                    f"{bwhere}.{name}", regions, meshes[i], surfaces[order.index(i)],
+                    f"contact.surfaces[{order.index(i)}]",
+                )
+            out.append(LoadStep(changes, f["increments"], f["label"]))
+        return tuple(out)
+
+    def units(self, value: Any) -> dict[str, str]:
+        key = schema.ROOT.key("units")
+        return self.fields("units", self.table("units", value, key), key)
+
+    def output(self, value: Any) -> OutputOptions:
+        key = schema.OUTPUT
+        out = OutputOptions(**self.fields("output", self.table("output", value, key), key))
+        if out.figures:
+            try:
+                require_matplotlib("output.figures")
+            except ConfigError:
+                self.fail("output.figures", "needs matplotlib, which is not installed", True,
+                          "pip install matplotlib, or set figures = false")
+        return out
+
+    def solver(self, value: Any) -> SolverOptions:
+        key = schema.SOLVER
+        t = self.table("solver", value, key)
+        kwargs: dict[str, Any] = {}
+        if "linear" in t:
+            kwargs["linear"] = self.linear(t["linear"])
+        for name, given in t.items():
+            if name != "linear":  # the ranges are SolverOptions' own (settings.Key)
+                kwargs[name] = self.value(f"solver.{name}", given, key.key(name))
+        return SolverOptions(**kwargs)
+
+    def linear(self, value: Any) -> LinearSolverOptions:
+        key = schema.LINEAR
+        f = self.fields("solver.linear", self.table("solver.linear", value, key), key)
+        h = HMatrixOptions(**{k: f.pop(k) for k in schema.HMATRIX_KEYS})
+        return LinearSolverOptions(hmatrix=h, **f)
+
+    def body_name(self, i: int, b: dict) -> str:
+        where = f"body[{i}]"
+        self.table(where, b, schema.BODY)
+        name = self.string(f"{where}.name", b["name"])
+        if not NAME_PATTERN.match(name):
+            self.fail(
+                f"{where}.name",
+                "must start with a letter and hold only letters, digits, '_' and '-' "
+                "(it names the output files)",
+                name,
+            )
+        if name in RESERVED_NAMES:
+            self.fail(f"{where}.name", f"is reserved for an output file ({name}.*)", name,
+                      "choose another name")
+        return name
+
+    def mesh(self, where: str, value: Any) -> SurfaceMesh:
+        t = self.table(where, value, schema.MESH)
+        given = [k for k in schema.MESH_SOURCES if k in t]
+        if len(given) != 1:
+            self.fail(
+                where, "give exactly one of " + ", ".join(schema.MESH_SOURCES)
+                + (f" (given: {', '.join(given)})" if given else ""), value,
+            )
+        source = given[0]
+        if "element_type" in t and source != "file":
+            self.fail(f"{where}.element_type", f"belongs inside {source} = {{...}} for a "
+                      "generated mesh" if source == "box" else "applies only to mesh files",
+                      t["element_type"])
+        if source == "box":
+            return self.box(f"{where}.box", t["box"])
+        if source != "file":
+            return self.generated(f"{where}.{source}", source, t[source])
+        fwhere = f"{where}.file"
+        name = self.string(fwhere, t["file"])
+        etype = None
+        if "element_type" in t:
+            etype = self.value(f"{where}.element_type", t["element_type"],
+                               schema.MESH.key("element_type"))
+        full = self.base / name
+        if full.is_dir():
+            self.fail(fwhere, f"is a directory ({full}), not a mesh file", name)
+        if not full.is_file():
+            self.fail(fwhere, f"no such mesh file ({full})", name,
+                      "mesh files are relative to the problem file's directory")
+        try:
+            return read_mesh(full, etype)
+        except BemcontactError as exc:
+            text = one_line(str(exc))
+            if text.startswith(f"{full}: "):
+                text = text[len(f"{full}: ") :]
+            self.fail(fwhere, f"cannot use the mesh file: {text.rstrip('.')}", name)
+
+    def box(self, where: str, value: Any) -> SurfaceMesh:
+        t = self.table(where, value, schema.BOX)
+        f = self.fields(where, t, schema.BOX)
+        lo, hi = f["lower"], f["upper"]
+        for a in range(3):
+            if hi[a] <= lo[a]:
+                self.fail(
+                    f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}", t["upper"][a]
+                )
+        try:
+            return box(lo, hi, f["divisions"], f["element_type"], f["grading"])
+        except BemcontactError as exc:
+            self.wrap(where, exc, value)
+
+    def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
+        """``cap``, ``punch`` or ``graded_box``: a gmsh-generated mesh."""
+        from ..mesh import shapes as geometry
+
+        key = schema.MESH.key(source)
+        t = self.table(where, value, key)
+        f = self.fields(where, t, key)
+        if f["coarse_size"] < f["fine_size"]:
+            self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
+                      t["coarse_size"])
+        # a cheap upper bound of the element count: the whole body at fine_size
+        extent = (
+            2.0 * f["radius"] + f["height"] if source in ("cap", "punch")
+            else max(b - a for a, b in zip(f["lower"], f["upper"]))
+        )
+        estimate = 12.0 * (extent / f["fine_size"]) ** 2
+        if estimate > 100 * MAX_ELEMENTS:
+            self.fail(f"{where}.fine_size", f"is too small for a body of size {extent:g} (about "
+                      f"{estimate:.3g} elements)", t["fine_size"])
+        if source == "cap":
+            if not f["height"] < 2 * f["radius"]:
+                self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",
+                          t["height"], "height = radius is a hemisphere")
+            make, args = geometry.spherical_cap, (f.pop("radius"), f.pop("height"))
+        elif source == "punch":
+            make, args = geometry.punch, (f.pop("radius"), f.pop("height"))
+        else:
+            lo, hi = f.pop("lower"), f.pop("upper")
+            for a in range(3):
+                if hi[a] <= lo[a]:
+                    self.fail(f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}",
+                              t["upper"][a])
+            make, args = geometry.graded_block, (lo, hi, f.pop("focus"))
+        try:
+            return make(*args, **f)
+        except BemcontactError as exc:
+            self.wrap(where, exc, value)
+
+    def material(self, where: str, value: Any) -> LinearElastic:
+        t = self.table(where, value, schema.MATERIAL)
+        f = self.fields(where, t, schema.MATERIAL)
+        try:
+            return LinearElastic(**f)
+        except BemcontactError as exc:  # pragma: no cover - the ranges are checked above
+            self.wrap(where, exc, value)
+
+    def boundary_conditions(
+        self, where: str, value: Any, mesh: SurfaceMesh, contact_surface: str, contact_where: str
+    ) -> dict[str, list]:
+        if not isinstance(value, dict):
+            self.fail(where, f"must be a table of regions, not {a_type(value)}", value)
+        out: dict[str, list] = {}
+        for region, spec in value.items():
+            rwhere = f"{where}.{region}"
+            if region not in mesh.region_names:
+                self.fail(
+                    rwhere, f"the mesh has no region {region!r} (its regions: "
+                    f"{', '.join(mesh.region_names)})", region,
+                    suggest(region, mesh.region_names),
+                )
+            if region == contact_surface:
+                self.fail(
+                    rwhere, f"region {region!r} is this body's contact surface ({contact_where}), "
+                    "where the contact decides the tractions", spec, "remove this table",
+                )
+            out[region] = self.condition(rwhere, spec)
+        return out
+
+    def condition(self, where: str, value: Any) -> list:
+        t = self.table(where, value, schema.CONDITION)
+        if not t:
+            self.fail(
+                where, "no condition given (a region without conditions is traction free)",
+                value, "give displacement, traction, pressure or force, or remove the table",
+            )
+        items: list = []
+        if "pressure" in t:
+            if len(t) > 1:
+                other = next(k for k in t if k != "pressure")
+                self.fail(f"{where}.{other}", "cannot be combined with pressure (a pressure "
+                          "prescribes all three traction components)", t[other])
+            return [Pressure(self.number(f"{where}.pressure", t["pressure"]))]
+        given = {}
+        for key in ("displacement", "traction", "force"):
+            if key in t:
+                given[key] = self.vector(f"{where}.{key}", t[key], free=True)
+        keys = list(given)
+        for i, a in enumerate(keys):
+            for b in keys[i + 1 :]:
+                for c in range(3):
+                    if given[a][c] is not None and given[b][c] is not None:
+                        self.fail(
+                            f"{where}.{b}[{c}]",
+                            f"component {'xyz'[c]} is prescribed by both {a} and {b}",
+                            t[b][c], f'set one of them to "{FREE}"',
+                        )
+        kinds = {"displacement": Displacement, "traction": Traction, "force": Force}
+        for key, v in given.items():
+            items.append(kinds[key](v))
+        return items
+
+    def contact(
+        self, value: Any, names: list[str], meshes: list[SurfaceMesh]
+    ) -> tuple[tuple[int, int], tuple[str, str], ContactPair, float | None]:
+        key = schema.CONTACT
+        t = self.table("contact", value, key)
+        bodies = self.value("contact.bodies", t.get("bodies", list(names)), key.key("bodies"))
+        order = []
+        for k, b in enumerate(bodies):
+            if b not in names:
+                self.fail(
+                    f"contact.bodies[{k}]", f"no body of that name (bodies: {', '.join(names)})",
+                    b, suggest(b, names),
+                )
+            order.append(names.index(b))
+        if order[0] == order[1]:
+            self.fail("contact.bodies", "the two contact bodies must differ", bodies)
+        surfaces = self.value("contact.surfaces", t["surfaces"], key.key("surfaces"))
+        for k, s in enumerate(surfaces):
+            regions = meshes[order[k]].region_names
+            if s not in regions:
+                self.fail(
+                    f"contact.surfaces[{k}]", f"body {bodies[k]!r} has no region {s!r} (its "
+                    f"regions: {', '.join(regions)})", s, suggest(s, regions),
+                )
+        f = self.fields("contact", t, key)
+        on = f["frame_on"]
+        if on not in ("coarser", *bodies):
+            choices = ("coarser", *bodies)
+            self.fail("contact.frame_on", f"must be one of {', '.join(choices)}", on,
+                      suggest(on, choices))
+        frame_on = on if on == "coarser" else f"body{bodies.index(on) + 1}"
+        try:
+            pair = ContactPair(surfaces[0], surfaces[1],
+                               friction_coefficient=f["friction_coefficient"], frame=f["frame"],
+                               search_distance=f.get("search_distance"), frame_on=frame_on)
+        except BemcontactError as exc:  # pragma: no cover - checked above
+            self.wrap("contact", exc, value)
+        return (order[0], order[1]), (surfaces[0], surfaces[1]), pair, f.get("penalty")
+
+
+#: The former name of :class:`ProblemFile`, kept for existing scripts.
+Problem = ProblemFile
+
+__all__ = ["ProblemFile", "Problem", "load_problem"]

@@ -1,0 +1,382 @@
+"""The problem-file schema: every key a problem file may hold, in one place.
+
+Each key is a :class:`Key` with its type, whether it is required, its default,
+the allowed range or choices and one line of documentation.  Keys that set a
+field of an options dataclass (``SolverOptions``, ``LinearSolverOptions``,
+``HMatrixOptions``, ``ContactPair``, ``LoadStep``, ``OutputOptions``,
+``LinearElastic``) are that field's own :class:`~bemcontact.settings.Key`
+(:func:`~bemcontact.settings.keys_of`), so a range or default is written once.
+The reader (:mod:`bemcontact.problemfile.reader`) takes the allowed and
+required keys of every table, the numeric ranges and the choices from here, so
+a key cannot be accepted without being documented; ``docs/problem-file-reference.md`` is
+generated from this module by :func:`reference_markdown` and a test checks
+that the page is up to date.
+
+Types (:attr:`Key.type`):
+
+``string``, ``boolean``, ``number`` (int or float, finite), ``integer``,
+``vector`` (3 numbers), ``components`` (3 entries, each a number or
+``"free"``), ``number-or-vector`` and ``integer-or-vector`` (one value for all
+three directions or 3 values), ``strings`` (an array of strings of fixed
+length), ``table`` (fixed keys: :attr:`Key.keys`), ``tables`` (an array of
+such tables, ``[[name]]``), ``map`` (a table whose keys are names chosen by the
+user — regions, bodies — each holding :attr:`Key.entry`).
+"""
+
+from __future__ import annotations
+
+from ..bem.material import LinearElastic
+from ..contact.options import CONDENSATION_LINEAR, SolverOptions
+from ..contact.pair import FRAME_RULES, ContactPair
+from ..contact.problem import LoadStep
+from ..linalg.options import HMatrixOptions, LinearSolverOptions
+from ..mesh.element import ELEMENT_TYPES
+from ..output.write import OutputOptions
+from ..settings import LARGEST, NO_DEFAULT, SMALLEST, Key, keys_of
+
+
+
+def _grading_keys(order_default: int, order_doc: str) -> tuple[Key, ...]:
+    return (
+        Key("fine_size", "number", "element size (length) in the refined zone", True,
+            lo=0, lo_open=True),
+        Key("coarse_size", "number", "largest element size (length), >= fine_size", True,
+            lo=0, lo_open=True),
+        Key("growth", "number", "size gradient away from the refined zone (size added per "
+            "unit distance)", default=0.3, lo=0, lo_open=True),
+        Key("order", "integer", order_doc, default=order_default, lo=1, hi=2),
+    )
+
+
+BOX = Key(
+    "box", "table", "a box meshed by bemcontact (structured quadrilaterals or triangles)",
+    section="body.mesh.box",
+    notes="Regions `xmin`, `xmax`, `ymin`, `ymax`, `zmin`, `zmax` (the faces).",
+    keys=(
+        Key("lower", "vector", "lower corner [x, y, z] (length)", True),
+        Key("upper", "vector", "upper corner (length), > lower in every component", True),
+        Key("divisions", "integer-or-vector", "elements per edge, or [nx, ny, nz]", True, lo=1),
+        Key("element_type", "string", "element type", default="quad4", choices=ELEMENT_TYPES),
+        Key("grading", "number-or-vector", "ratio of the last to the first element size along "
+            "each direction (1: uniform)", default=1.0, lo=0, lo_open=True),
+    ),
+)
+
+CAP = Key(
+    "cap", "table", "a solid spherical cap or hemisphere (a Hertz indenter) meshed by gmsh "
+    "with curved triangles graded toward its apex",
+    section="body.mesh.cap",
+    notes="Regions `contact` (the curved surface) and `base` (the flat disc). Needs the "
+    "`gmsh` Python package. Example: `cap = { radius = 10, height = 10, fine_size = 0.1, "
+    "coarse_size = 2.5, fine_radius = 0.8 }` is a hemisphere R = 10 resting on z = 0 with "
+    "about ten elements across a contact diameter of 1.",
+    keys=(
+        Key("radius", "number", "sphere radius R (length)", True, lo=0, lo_open=True),
+        Key("height", "number", "apex to flat base (length), 0 < height < 2R; = R is a "
+            "hemisphere", True, lo=0, lo_open=True),
+        Key("fine_radius", "number", "radius of the uniformly fine zone around the apex "
+            "(length); take 1.5 to 2 times the expected contact radius", True, lo=0),
+        Key("apex", "vector", "the point of the sphere that touches first", default=[0, 0, 0]),
+        Key("axis", "integer", "+1: the body lies above its apex (pressing down); -1: below",
+            default=1, choices=("1", "-1")),
+        *_grading_keys(2, "1: flat 3-node triangles; 2: curved 6-node triangles"),
+    ),
+)
+
+PUNCH = Key(
+    "punch", "table", "a flat-ended cylindrical punch (Boussinesq) meshed by gmsh, graded "
+    "toward the rim of its flat end",
+    section="body.mesh.punch",
+    notes="Regions `contact` (the flat end), `side`, `top`. Needs the `gmsh` Python package.",
+    keys=(
+        Key("radius", "number", "cylinder radius (length)", True, lo=0, lo_open=True),
+        Key("height", "number", "cylinder height (length)", True, lo=0, lo_open=True),
+        Key("center_size", "number", "element size at the centre of the flat end (length), "
+            "between fine_size and coarse_size", default_text="2 × fine_size", lo=0,
+            lo_open=True),
+        Key("base_center", "vector", "centre of the flat end", default=[0, 0, 0]),
+        Key("axis", "integer", "+1: the body lies above its flat end; -1: below", default=1,
+            choices=("1", "-1")),
+        *_grading_keys(2, "1: flat 3-node triangles; 2: curved 6-node triangles"),
+    ),
+)
+
+GRADED_BOX = Key(
+    "graded_box", "table", "a box meshed by gmsh with elements graded toward a point of one "
+    "of its faces (the flat counter-body of a Hertz contact or a punch)",
+    section="body.mesh.graded_box",
+    notes="Regions `xmin`, `xmax`, `ymin`, `ymax`, `zmin`, `zmax`. Needs the `gmsh` Python "
+    "package.",
+    keys=(
+        Key("lower", "vector", "lower corner (length)", True),
+        Key("upper", "vector", "upper corner (length), > lower in every component", True),
+        Key("focus", "vector", "the point (on a face of the box) the mesh is refined toward",
+            True),
+        Key("fine_radius", "number", "radius of the uniformly fine zone around focus (length)",
+            True, lo=0),
+        Key("quads", "boolean", "recombine the triangles into quadrilaterals", default=False),
+        Key("seed", "integer", "perturbs gmsh's mesher (two seeds give non-matching meshes)",
+            default=0, lo=0),
+        *_grading_keys(1, "1: linear elements; 2: quadratic (tri6 or quad9)"),
+    ),
+)
+
+MESH = Key(
+    "mesh", "table", "the body's closed surface mesh: exactly one of `box`, `file`, `cap`, "
+    "`punch`, `graded_box`", True,
+    section="body.mesh",
+    notes="The surface must be closed and its normals point outward (checked while "
+    "loading; `bemcontact mesh-info MESH` shows what is wrong with a mesh file). Mesh "
+    "files are read by meshio: regions are the gmsh physical surface groups by name "
+    "(`group<tag>` when unnamed), or `region0`, `region1`, ... for files written by "
+    "bemcontact.",
+    keys=(
+        BOX,
+        Key("file", "string", "a mesh file any meshio reader takes, relative to the problem "
+            "file's directory"),
+        Key("element_type", "string", "with `file`: which element type to use when the file "
+            "holds several", choices=ELEMENT_TYPES, default_text="the file's only surface type"),
+        CAP,
+        PUNCH,
+        GRADED_BOX,
+    ),
+)
+#: The mesh generators (one of them, or ``file``, per body).
+MESH_SOURCES = ("box", "file", "cap", "punch", "graded_box")
+
+MATERIAL = Key(
+    "material", "table", "isotropic linear elastic material", True, section="body.material",
+    keys=keys_of(LinearElastic),
+)
+
+CONDITION = Key(
+    "<region>", "table", "the conditions of one region of the mesh (regions not listed are "
+    "traction free)",
+    section="body.boundary_conditions.<region>",
+    notes="`displacement`, `traction` and `force` may be combined as long as each component "
+    "is prescribed at most once; `pressure` sets all three traction components and stands "
+    "alone. A component prescribed by none is traction free. The region must exist in the "
+    "body's mesh and must not be the body's contact surface (there the contact decides the "
+    "tractions). An empty table is an error.",
+    keys=(
+        Key("displacement", "components", "prescribed global x, y, z displacement (length)"),
+        Key("traction", "components", "prescribed global traction (stress): force per area the "
+            "surroundings exert on the body"),
+        Key("pressure", "number", "normal pressure (stress), > 0 pushes on the body: t = -p n"),
+        Key("force", "components", "force control: the region moves as a rigid platen in these "
+            "components and the resultant of its tractions is this force (force); its "
+            "translation is reported in summary.json, `control_displacements`"),
+    ),
+)
+
+BOUNDARY_CONDITIONS = Key(
+    "boundary_conditions", "map", "one table per region of the mesh", default={},
+    section="body.boundary_conditions", entry=CONDITION,
+)
+
+BODY = Key(
+    "body", "tables", "the two bodies, as two `[[body]]` sections", True, section="body",
+    length=2,
+    keys=(
+        Key("name", "string", "a letter, then letters, digits, `_`, `-`; unique; not `frame` or "
+            "`summary` (it names the output files)", True),
+        MESH,
+        MATERIAL,
+        BOUNDARY_CONDITIONS,
+    ),
+)
+
+CONTACT = Key(
+    "contact", "table", "the contact pair", True, section="contact",
+    keys=(
+        Key("bodies", "strings", "body 1 and body 2: the contact normal points from body 1 into "
+            "body 2 and `normal_force` is the force body 1 exerts on body 2", length=2,
+            default_text="the `[[body]]` order"),
+        Key("surfaces", "strings", "the contact surface (a region) of body 1, then of body 2",
+            True, length=2),
+        *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance"),
+        Key("frame_on", "string", "which surface carries the frame (its normals define gap "
+            "and slip): `coarser` or a body name. Name the flat body when a curved body "
+            "presses on a flat one", default="coarser"),
+        *keys_of(SolverOptions, "penalty", penalty=dict(
+            doc="this pair's augmentation factor c (overrides `solver.penalty`)",
+            default=NO_DEFAULT, default_text="`solver.penalty`")),
+    ),
+)
+
+LINEAR = Key(
+    "linear", "table", "how each body's BEM system is stored and solved for the contact "
+    "condensation (the fields of `SolverOptions.linear`: `bemcontact.LinearSolverOptions` "
+    "and its `HMatrixOptions`)", default={},
+    section="solver.linear",
+    notes="Compressed operators (H-matrices built by adaptive cross approximation, "
+    "factored by an H-LU) need memory and time close to linear in the number of nodes; "
+    "the dense path is faster below a few thousand nodes per body (docs/benchmarks.md).",
+    keys=(
+        *keys_of(LinearSolverOptions, "method", "dense_max_nodes", defaults=CONDENSATION_LINEAR),
+        *keys_of(HMatrixOptions, "eps", "eta", "leaf_size", "storage",
+                 defaults=CONDENSATION_LINEAR.hmatrix),
+        *keys_of(LinearSolverOptions, "accuracy", "check_nodes", defaults=CONDENSATION_LINEAR),
+    ),
+)
+
+# the keys of [solver.linear] that are HMatrixOptions fields (the rest are
+# LinearSolverOptions')
+HMATRIX_KEYS = ("eps", "eta", "leaf_size", "storage")
+
+SOLVER = Key(
+    "solver", "table", "Newton settings (the fields of `bemcontact.SolverOptions`)",
+    default={}, section="solver",
+    keys=(
+        *keys_of(SolverOptions, "tolerance", "max_iterations", "load_steps", "penalty",
+                 "line_search_sigma", "min_step", "watchdog", "threads"),
+        LINEAR,
+    ),
+)
+
+STEP = Key(
+    "step", "tables", "the loading history, as `[[step]]` sections in order", default=[],
+    section="step",
+    notes="The history starts unloaded; the first step applies the bodies' own conditions "
+    "updated by its `boundary_conditions`. A step may change values but not the kind "
+    "(displacement, traction, force) of a component: give a component its later kind from "
+    "the start (e.g. `force = [0, \"free\", \"free\"]`). Without `[[step]]` sections the "
+    "bodies' conditions are applied in `solver.load_steps` increments.",
+    keys=(
+        *keys_of(LoadStep, "label", "increments"),
+        Key("boundary_conditions", "map", "`<body>.<region>` condition tables (as in "
+            "`body.boundary_conditions`) that change at this step; all others keep their "
+            "values", default={},
+            entry=Key("<body>", "map", "the body's changed regions", entry=CONDITION)),
+    ),
+)
+
+OUTPUT = Key(
+    "output", "table", "which result files `bemcontact run` writes", default={},
+    section="output",
+    notes="`summary.json` is always written. With `steps = \"all\"` each VTU file has one "
+    "version per load step (`<name>_<k>.vtu`, k = 1, 2, ...) and a `<name>.pvd` collection "
+    "that ParaView opens as a time series (time = step number); the unnumbered `<name>.vtu` "
+    "is always the final state.",
+    keys=(
+        *keys_of(OutputOptions),
+    ),
+)
+
+ROOT = Key(
+    "", "table", "a problem file", section="top level",
+    keys=(
+        Key("title", "string", "free text, echoed into summary.json", default=""),
+        Key("units", "table", "labels for the printed summary (not checked, not converted)",
+            default={}, section="units",
+            keys=tuple(Key(n, "string", f"{n} unit label, e.g. \"{e}\"")
+                       for n, e in (("length", "mm"), ("force", "N"), ("stress", "MPa")))),
+        SOLVER,
+        BODY,
+        CONTACT,
+        STEP,
+        OUTPUT,
+    ),
+)
+
+
+# ----------------------------------------------------------------------- docs
+
+
+def _type_text(k: Key) -> str:
+    base = {
+        "string": "string",
+        "boolean": "boolean",
+        "number": "number",
+        "integer": "integer",
+        "vector": "[x, y, z] numbers",
+        "components": "[x, y, z], each a number or `\"free\"`",
+        "number-or-vector": "number or [x, y, z]",
+        "integer-or-vector": "integer or [x, y, z]",
+        "strings": f"{k.length} strings",
+        "table": "table",
+        "tables": f"{k.length or 'any number of'} `[[{k.name}]]` tables",
+        "map": "table of named tables",
+    }[k.type]
+    cond = []
+    if k.lo is not None:
+        cond.append(f"{'>' if k.lo_open else '>='} {k.lo:g}")
+    if k.hi is not None:
+        cond.append(f"{'<' if k.hi_open else '<='} {k.hi:g}")
+    if k.choices:
+        cond.append("one of " + ", ".join(f"`{c}`" for c in k.choices))
+    return base + (f", {' and '.join(cond)}" if cond else "")
+
+
+def _default_text(k: Key) -> str:
+    if k.required:
+        return "**required**"
+    if k.default_text:
+        return k.default_text
+    if k.default is NO_DEFAULT:
+        return "none"
+    d = k.default
+    if isinstance(d, bool):
+        return f"`{str(d).lower()}`"
+    if isinstance(d, str):
+        return f'`"{d}"`'
+    if isinstance(d, float) and d and abs(d) < 1e-3:
+        return f"`{d:.6g}`"
+    if isinstance(d, dict):
+        return "empty"
+    if isinstance(d, list) and not d:
+        return "none"
+    return f"`{d}`"
+
+
+def _anchor(section: str) -> str:
+    return "".join(c for c in section.lower().replace(" ", "-") if c.isalnum() or c in "-_")
+
+
+def _sections(k: Key, out: list[Key]) -> None:
+    if k.section and k not in out:
+        out.append(k)
+    for c in k.keys:
+        _sections(c, out)
+    if k.entry is not None:
+        _sections(k.entry, out)
+
+
+def reference_markdown() -> str:
+    """The problem-file reference page (``docs/problem-file-reference.md``)."""
+    lines = [
+        "# Problem-file reference",
+        "",
+        "<!-- Generated from src/bemcontact/problemfile/schema.py by",
+        "     python -c 'import bemcontact.problemfile.schema as s; print(s.reference_markdown(), end=\"\")'",
+        "     > docs/problem-file-reference.md   (do not edit; a test checks it is current) -->",
+        "",
+        "Every key a problem file may hold. Unknown keys are errors (with a suggestion when",
+        "one is close); integers are accepted where a number is expected, not the reverse;",
+        "booleans are never numbers; `nan` and `inf` are rejected, and so is any number other",
+        f"than 0 whose magnitude is outside {SMALLEST:g} to {LARGEST:g}. Units are those of the",
+        "problem's one consistent set (docs/theory.md). The narrative guide, with examples,",
+        "is [Problem files and the command line](problem-file.md).",
+        "",
+    ]
+    sections: list[Key] = []
+    _sections(ROOT, sections)
+    for s in sections:
+        title = "Top level" if s is ROOT else f"`{s.section}`"
+        lines += [f"## {title}", "", s.doc[0].upper() + s.doc[1:] + ".", ""]
+        children = s.keys if s.keys else ((s.entry,) if s.entry is not None else ())
+        if children:
+            lines += ["| key | type | default | meaning |", "|---|---|---|---|"]
+            for c in children:
+                name = f"`{c.name}`"
+                if c.section and c is not s:
+                    name = f"[`{c.name}`](#{_anchor(c.section)})"
+                meaning = c.doc.replace("|", "\\|")
+                lines.append(f"| {name} | {_type_text(c)} | {_default_text(c)} | {meaning} |")
+            lines.append("")
+        if s.notes:
+            lines += [s.notes, ""]
+    return "\n".join(lines).rstrip() + "\n"
+
+
+__all__ = ["Key", "ROOT", "reference_markdown", "MESH_SOURCES", "ELEMENT_TYPES", "FRAME_RULES"]

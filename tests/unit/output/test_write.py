@@ -1,0 +1,300 @@
+"""Result files: readable with meshio / json / csv, values equal to the
+result's, all-or-nothing writing; the interface line figure."""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+import math
+
+import meshio
+import numpy as np
+import pytest
+
+import bemcontact as bc
+from bemcontact.output import write as io
+from bemcontact.output.read import read_csv
+from bemcontact.output.plot import interface_line, plot_interface_line
+
+FILES = [
+    "summary.json", "lower.vtu", "upper.vtu", "lower_interface.vtu", "upper_interface.vtu",
+    "frame.vtu", "lower.pvd", "upper.pvd", "lower_interface.pvd", "upper_interface.pvd",
+    "frame.pvd", "lower_interface.csv", "upper_interface.csv", "frame.csv",
+    "frame_tractions.png",
+]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def result():
+    """A small upper block on a larger lower one: most lower interface nodes
+    lie outside the upper block, so their gaps are NaN."""
+    lower = bc.ElasticBody(
+        bc.box((0, 0, 0), (2, 2, 2), 2), bc.LinearElastic(1e4, 0.3), {"zmin": bc.Fixed()},
+        name="lower",
+    )
+    upper = bc.ElasticBody(
+        bc.box((0.5, 0.5, 2), (1.5, 1.5, 3), 1), bc.LinearElastic(1e4, 0.3),
+        {"zmax": bc.Displacement((0, 0, -0.02))}, name="upper",
+    )
+    r = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", 0.2)).solve(
+        bc.SolverOptions(threads=1)
+    )
+    assert np.isnan(r.interfaces[0].gap).any()
+    return r
+
+
+@pytest.fixture(scope="module")
+def written(result, tmp_path_factory):
+    out = tmp_path_factory.mktemp("io") / "nested" / "run"
+    files = io.write_results(result, out, {"file": "p.toml", "title": "t"})
+    return out, files
+
+
+def test_write_results_creates_the_listed_files(written):
+    out, files = written
+    assert [f.name for f in files] == FILES
+    assert sorted(p.name for p in out.iterdir()) == sorted([*FILES, "steps"])
+    assert [p.name for p in out.parent.iterdir()] == ["run"]  # no temporary left
+
+
+def test_summary_json(written, result):
+    out, _ = written
+    s = json.loads((out / "summary.json").read_text())
+    assert s["converged"] is True
+    assert s["normal_force"] == result.normal_force
+    assert s["tangential_force"] == result.tangential_force
+    assert s["newton_iterations"] == result.newton_iterations
+    assert s["names"] == ["lower", "upper"]
+    assert s["version"] == bc.__version__
+    import platform
+
+    assert s["versions"]["bemcontact"] == bc.__version__
+    assert s["versions"]["numpy"] == np.__version__
+    assert s["versions"]["python"] == platform.python_version()
+    assert s["problem"] == {"file": "p.toml", "title": "t"}
+    assert s["states"]["upper"] == result.interfaces[1].counts()
+
+
+def test_body_vtu_holds_functional_nodes_and_elements(written, result):
+    out, _ = written
+    for sol, name in zip(result.bodies, result.names):
+        m = meshio.read(out / f"{name}.vtu")
+        d = sol.discretization
+        np.testing.assert_array_equal(m.points, sol.points)
+        np.testing.assert_array_equal(m.point_data["displacement"], sol.displacement)
+        np.testing.assert_array_equal(m.point_data["traction"], sol.traction)
+        (cells,) = m.cells
+        assert cells.type == "quad"
+        np.testing.assert_array_equal(cells.data, d.fconn[:, :4])
+        np.testing.assert_array_equal(m.cell_data["region"][0], d.mesh.element_region)
+
+
+def test_interface_vtu_and_csv(written, result):
+    out, _ = written
+    for sol, iface in zip(result.bodies, result.interfaces):
+        m = meshio.read(out / f"{iface.body}_interface.vtu")
+        np.testing.assert_array_equal(m.points, iface.points)
+        for key in ("pressure", "tangential_traction", "gap", "slip", "displacement", "traction"):
+            np.testing.assert_array_equal(m.point_data[key], getattr(iface, key), err_msg=key)
+        np.testing.assert_array_equal(m.point_data["state"], iface.state)
+        assert m.cells[0].data.shape[0] == sol.discretization.mesh.region(iface.surface).size
+        with open(out / f"{iface.body}_interface.csv", newline="") as f:
+            rows = list(csv.reader(f))
+        assert rows[0] == list(io.INTERFACE_COLUMNS)
+        header = "x,y,z,pressure,tx,ty,tz,gap,slip_x,slip_y,slip_z,state,ux,uy,uz"
+        assert rows[0] == header.split(",")
+        data = np.array(rows[1:], dtype=float)
+        expected = np.column_stack([
+            iface.points, iface.pressure, iface.tangential_traction, iface.gap, iface.slip,
+            iface.state, iface.displacement,
+        ])  # fmt: skip
+        np.testing.assert_array_equal(data, expected)  # NaN gaps stay NaN, full precision
+        assert all(r[11] in ("0", "1", "2") for r in rows[1:])
+
+
+def test_frame_vtu_and_csv(written, result):
+    out, _ = written
+    fr = result.frame
+    m = meshio.read(out / "frame.vtu")
+    np.testing.assert_array_equal(m.points, fr.points)
+    assert m.cells[0].type == "quad"  # the frame's own elements were recovered
+    for key in ("pressure", "tangential_traction", "gap", "slip", "state"):
+        np.testing.assert_array_equal(m.point_data[key], getattr(fr, key), err_msg=key)
+    c = read_csv(out / "frame.csv")
+    assert list(c) == list(io.FRAME_COLUMNS)
+    np.testing.assert_array_equal(c["pressure"], fr.pressure)
+    t = np.column_stack([c["tx"], c["ty"], c["tz"]])
+    np.testing.assert_array_equal(t, fr.tangential_traction)
+    np.testing.assert_array_equal(c["state"], fr.state)
+    assert c["weight"] @ c["pressure"] == pytest.approx(result.normal_force, rel=1e-12)
+
+
+def test_failed_write_leaves_nothing(result, tmp_path, monkeypatch):
+    def boom(*args, **kwargs):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(io, "_write_frame_csv", boom)
+    out = tmp_path / "a" / "b" / "out"
+    with pytest.raises(OSError, match="No space left"):
+        io.write_results(result, out)
+    assert list(tmp_path.iterdir()) == []  # not even the parents this call created
+
+    existing = tmp_path / "existing"
+    existing.mkdir()
+    (existing / "summary.json").write_text("old")
+    with pytest.raises(OSError):
+        io.write_results(result, existing)
+    assert [p.name for p in tmp_path.iterdir()] == ["existing"]
+    assert [p.name for p in existing.iterdir()] == ["summary.json"]
+    assert (existing / "summary.json").read_text() == "old"
+
+
+def test_rewrite_replaces_files_in_an_existing_directory(result, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.json").write_text("old")
+    (out / "notes.txt").write_text("mine")
+    io.write_results(result, out)
+    assert json.loads((out / "summary.json").read_text())["converged"] is True
+    assert (out / "notes.txt").read_text() == "mine"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+
+
+def test_out_dir_that_is_a_file(result, tmp_path):
+    f = tmp_path / "file"
+    f.write_text("x")
+    with pytest.raises(NotADirectoryError):
+        io.write_results(result, f)
+    assert f.read_text() == "x" and [p.name for p in tmp_path.iterdir()] == ["file"]
+
+
+def test_body_names_that_cannot_name_files(result, tmp_path):
+    bad = dataclasses.replace(result, names=("../up", "lower"))
+    with pytest.raises(bc.ConfigError, match=r"body name '\.\./up' cannot name a file"):
+        io.write_results(bad, tmp_path / "out")
+    clash = dataclasses.replace(result, names=("frame", "lower"))
+    with pytest.raises(bc.ConfigError, match="clashing file names"):
+        io.write_results(clash, tmp_path / "out")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_write_summary_of_a_failure_is_strict_json(result, tmp_path):
+    failed = dataclasses.replace(result, converged=False)
+    path = io.write_summary(failed, tmp_path / "out", {"file": "p.toml"}, error="did not converge")
+    s = json.loads(path.read_text())
+    assert s["converged"] is False and s["error"] == "did not converge"
+    assert s["normal_force"] == result.normal_force
+    path = io.write_summary({"converged": False, "residual": math.nan}, tmp_path / "out2")
+    text = path.read_text()
+    assert "NaN" not in text and json.loads(text)["residual"] is None
+
+
+def test_interface_line_from_result_equals_from_directory(written, result):
+    out, _ = written
+    a = interface_line(result)
+    b = interface_line(out)
+    assert [x.body for x in a] == ["lower", "upper"]
+    for x, y in zip(a, b):
+        assert (x.axis, x.across, x.row) == (0, 1, y.row) and x.across == y.across
+        np.testing.assert_array_equal(x.coordinate, y.coordinate)
+        np.testing.assert_array_equal(x.displacement, y.displacement)
+        assert np.all(np.diff(x.coordinate) > 0) and x.coordinate.size >= 2
+    with pytest.raises(bc.ConfigError, match="normal to the contact interface"):
+        interface_line(result, axis=2)
+
+
+def test_plot_interface_line_writes_a_png(written, result, tmp_path):
+    out, _ = written
+    png = plot_interface_line({"from memory": result, "from disk": out}, tmp_path / "f.png")
+    assert png == tmp_path / "f.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+# ------------------------------------------------------------ load-step series and options
+
+
+def test_pvd_collections_list_one_vtu_per_load_step(written, result):
+    """Each VTU series has a PVD collection whose data sets are the per-step
+    files, in order, and the last step's file equals the final-state file."""
+    import xml.etree.ElementTree as ET
+
+    import meshio
+
+    out, _ = written
+    n = len(result.history)
+    assert n >= 1
+    for name in ("lower", "upper_interface", "frame"):
+        root = ET.parse(out / f"{name}.pvd").getroot()
+        assert root.get("type") == "Collection"
+        sets = root.find("Collection").findall("DataSet")
+        assert [float(d.get("timestep")) for d in sets] == list(range(1, n + 1))
+        files = [d.get("file") for d in sets]
+        assert all((out / f).is_file() for f in files)
+        last = meshio.read(out / files[-1])
+        final = meshio.read(out / f"{name}.vtu")
+        for key in final.point_data:
+            np.testing.assert_array_equal(last.point_data[key], final.point_data[key])
+
+
+def test_steps_of_a_history_are_written_per_step(tmp_path):
+    """A two-step history (displacement 0.01 then 0.02): two numbered files
+    per series whose frame pressures differ, the second equal to the final."""
+    import meshio
+
+    lower = bc.ElasticBody(
+        bc.box((0, 0, 0), (1, 1, 1), 2), bc.LinearElastic(1e4, 0.3), {"zmin": bc.Fixed()},
+        name="lower",
+    )
+    upper = bc.ElasticBody(
+        bc.box((0, 0, 1), (1, 1, 2), 2), bc.LinearElastic(1e4, 0.3),
+        {"zmax": bc.Displacement((0, 0, -0.01))}, name="upper",
+    )
+    steps = [
+        bc.LoadStep({}, 1, "half"),
+        bc.LoadStep({"upper": {"zmax": [bc.Displacement((0, 0, -0.02))]}}, 1, "full"),
+    ]
+    r = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin")).solve(
+        bc.SolverOptions(threads=1), steps=steps
+    )
+    io.write_results(r, tmp_path / "out", options=io.OutputOptions(figures=False, csv=False))
+    out = tmp_path / "out"
+    p1 = meshio.read(out / "steps" / "frame_001.vtu").point_data["pressure"]
+    p2 = meshio.read(out / "steps" / "frame_002.vtu").point_data["pressure"]
+    # linear elastic, full contact: the second step's pressure is twice the first
+    np.testing.assert_allclose(p2, 2 * p1, rtol=1e-8, atol=1e-12 * np.abs(p2).max())
+    np.testing.assert_array_equal(meshio.read(out / "frame.vtu").point_data["pressure"], p2)
+    assert not list(out.glob("*.csv")) and not list(out.glob("*.png"))
+
+
+def test_rewrite_replaces_the_steps_directory_whole(result, tmp_path):
+    out = tmp_path / "out"
+    io.write_results(result, out, options=io.OutputOptions(figures=False))
+    (out / "steps" / "stale_999.vtu").write_text("old")
+    io.write_results(result, out, options=io.OutputOptions(figures=False))
+    assert not (out / "steps" / "stale_999.vtu").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no .old/.tmp left
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_output_options_last_only_and_validation(result, tmp_path):
+    files = io.write_results(
+        result, tmp_path / "o", options=io.OutputOptions(steps="last", csv=False, figures=False)
+    )
+    assert sorted(f.name for f in files) == sorted(
+        ["summary.json", "lower.vtu", "upper.vtu", "lower_interface.vtu", "upper_interface.vtu",
+         "frame.vtu"]
+    )
+    assert not (tmp_path / "o" / "steps").exists()
+    with pytest.raises(bc.ConfigError, match="OutputOptions.steps must be 'all' or 'last'"):
+        io.OutputOptions(steps="every")
+    with pytest.raises(bc.ConfigError, match="OutputOptions.vtu must be True or False"):
+        io.OutputOptions(vtu=1)
+
+
+def test_frame_tractions_png(written):
+    from PIL import Image
+
+    out, _ = written
+    with Image.open(out / "frame_tractions.png") as img:
+        assert img.format == "PNG" and img.size[0] > 1000
