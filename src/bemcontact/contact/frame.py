@@ -4,10 +4,19 @@ it (founding paper, eqs. 10-16; docs/frame.md).
 
 Frame discretization (the rule, see docs/frame.md for the comparison)
 --------------------------------------------------------------------
-* Geometry: the frame is laid on the *coarser* of the two contact surfaces
-  (larger mean element area; ties broken by the node count, then by the
-  geometry itself, never by which body is called "1"), so swapping the bodies
-  gives the same frame.
+* Geometry: the frame's elements are those of the *coarser* of the two
+  contact surfaces (larger mean element area; ties broken by the node count,
+  then by the geometry itself, never by which body is called "1"), so
+  swapping the bodies gives the same frame.  With ``between`` (the default of
+  :class:`~bemcontact.contact.ContactPair`) they are moved *between* the two
+  surfaces, as the founding paper keeps the frame: each frame node midway
+  between its owner-surface point and that point's projection on the other
+  surface, its normal bisecting the two surfaces' outward normals, n = (n_1 -
+  n_2)/|n_1 - n_2|; the mortar integrals are taken in the planes of those
+  bisecting normals, so opposite points are paired across the frame, not
+  along one body's normal.  Otherwise the frame lies on the owner's surface
+  with its normals (a curved owner then tilts the contact normal by r/R
+  against the true contact surface: docs/frame.md).
 * Interpolation: continuous, *linear* (P1 on triangles, Q1 on quadrilaterals)
   on the corner nodes of those elements, whatever the bodies' element order:
   nonnegative basis functions, so nodal weights ∫N_j > 0 and a nodal
@@ -80,6 +89,16 @@ def _surface(disc: Discretization, region: str, who: str) -> _Surface:
     return _Surface(disc, elements, nodes, local)
 
 
+def _smooth_normals(disc: Discretization, elements: np.ndarray, xi: np.ndarray) -> np.ndarray:
+    """Unit normals (P, 3) interpolated from the functional nodes' normals
+    (averaged over the elements at shared nodes) at ``xi`` in ``elements``:
+    close to the smooth surface's normal, unlike a flat element's own."""
+    k = disc.mesh.elements.shape[1]
+    phi = disc.basis_at(elements, xi)
+    n = np.einsum("pk,pkc->pc", phi, disc.normals[disc.fconn[elements, :k]])
+    return n / np.linalg.norm(n, axis=1)[:, None]
+
+
 class ContactFrame:
     """The contact frame of a pair of contact surfaces and the coupling
     matrices of both bodies (see the module docstring for the rule).
@@ -113,6 +132,7 @@ class ContactFrame:
         quadrature_order: int = 6,
         search_distance: float | None = None,
         owner: int | None = None,
+        between: bool = False,
     ) -> None:
         if rule not in ("mortar", "collocation"):
             raise ConfigError(f"frame rule must be 'mortar' or 'collocation', got {rule!r}")
@@ -125,6 +145,7 @@ class ContactFrame:
         if owner not in (None, 0, 1):
             raise ConfigError(f"frame owner must be None, 0 or 1, got {owner!r}")
         self.rule = rule
+        self.between = bool(between)
         self.names = names
         s = (_surface(disc1, surface1, names[0]), _surface(disc2, surface2, names[1]))
         for a in range(2):
@@ -185,6 +206,8 @@ class ContactFrame:
         acc = np.zeros((m, 3))
         np.add.at(acc, self._fconn.ravel(), n_at)
         n = acc / np.linalg.norm(acc, axis=1)[:, None]
+        if self.between:
+            self.points, n = self._between(self.points, n)
         if self.owner == 1:
             n = -n  # frame normal points from body 1 into body 2
         t1, t2 = tangent_basis(n)
@@ -201,7 +224,12 @@ class ContactFrame:
         # element planes of the owner (frame) elements
         cen_o = np.tile(np.array([1 / 3, 1 / 3]) if mo.element_type.startswith("tri") else np.zeros(2), (Eo.size, 1))
         c_o, n_o, _ = mo.map(Eo, cen_o)
-        t1, t2 = tangent_basis(n_o)
+        # the planes of the mortar integrals: the owner's element planes, or
+        # the planes bisecting the two surfaces (pairing across the frame)
+        if self.between:
+            t1, t2 = tangent_basis(self._between(c_o, _smooth_normals(do, Eo, cen_o))[1])
+        else:
+            t1, t2 = tangent_basis(n_o)
         Co = mo.nodes[mo.elements[Eo, :nco]]  # (Eo, nco, 3)
         Ct = mt.nodes[mt.elements[Et, :nct]]
         # candidate pairs: the other element's corners, in the owner element's
@@ -311,6 +339,30 @@ class ContactFrame:
         self.active = self.weights > 1e-12 * self.weights.max()
         self.M = tuple(self._mass(sf) for sf in self._s)
         self.size = np.sqrt(self._full_weights())
+
+    def _between(self, x: np.ndarray, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Points of the owner's surface ``x`` (P, 3) with its outward normals
+        ``n``, moved between the surfaces: midway to their projection y on
+        the other surface, and the normals bisecting the outward normals,
+        (n - n_y)/|n - n_y| (still pointing out of the owner; n_y from the
+        other body's nodal normals: a flat element's own normal is off the
+        surface's by O(h/R), and that noise times the gap would show as slip).  Points without
+        a facing partner within the search distance keep theirs."""
+        oth = self._s[1 - self.owner]
+        el, xi, _ = locate(oth.disc, oth.elements, x, self.search_distance)
+        y, _, _ = oth.disc.mesh.map(el, xi)
+        ny = _smooth_normals(oth.disc, el, xi)
+        # a point of a convex surface can fall between the normal prisms of two
+        # elements of the other one (not inside either): its nearest point on
+        # the least-outside element is its partner, if it lies that close
+        d = y - x
+        across = np.einsum("pc,pc->p", d, n)
+        lateral = np.linalg.norm(d - across[:, None] * n, axis=1)
+        ok = ((np.einsum("pc,pc->p", n, ny) < 0) & (np.abs(across) <= self.search_distance)
+              & (lateral <= self.search_distance))
+        b = n - ny
+        b /= np.linalg.norm(b, axis=1)[:, None]
+        return (np.where(ok[:, None], 0.5 * (x + y), x), np.where(ok[:, None], b, n))
 
     def _full_weights(self) -> np.ndarray:
         """(m,) the frame surface's element areas around each node, each

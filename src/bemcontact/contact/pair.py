@@ -9,7 +9,7 @@ from ..settings import Key, check_settings, setting
 
 
 #: Values of :attr:`ContactPair.frame_on`.
-FRAME_ON = ("coarser", "body1", "body2")
+FRAME_ON = ("coarser", "between", "body1", "body2")
 #: Values of :attr:`ContactPair.frame`.
 FRAME_RULES = ("mortar", "collocation")
 
@@ -37,10 +37,12 @@ class ContactPair:
         Pairing is by normal projection; the initial gap comes from the
         geometry.
     frame_on:
-        Which surface carries the frame (its nodes, elements and local
-        bases, hence the normal direction of the gap and of the slip):
-        ``"coarser"`` (default; the rule of docs/frame.md, independent of
-        the body order), ``"body1"`` or ``"body2"``.  Put it on the flat
+        Where the frame lies (its nodes, elements and local bases, hence the
+        normal direction of the gap and of the slip): ``"between"`` the two
+        surfaces (the coarser surface's elements moved midway, normals
+        bisecting the surfaces' normals: docs/frame.md), or on a surface:
+        ``"coarser"`` (default; independent of the body order), ``"body1"``
+        or ``"body2"``.  Put it on the flat
         body when a curved body presses on a flat one (sphere on block):
         a frame on the curved surface tilts the normal by r/R, so the
         relative approach shows a tangential component of order a/R that

@@ -127,7 +127,8 @@ class ContactProblem:
                 b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
                 self.pair.frame, names=(b1.name, b2.name),
                 search_distance=self.pair.search_distance,
-                owner={"coarser": None, "body1": 0, "body2": 1}[self.pair.frame_on],
+                owner={"body1": 0, "body2": 1}.get(self.pair.frame_on),
+                between=self.pair.frame_on == "between",
             )
         return self._frame
 

@@ -177,21 +177,32 @@ def locate(disc: Discretization, elements: np.ndarray, points: np.ndarray,
         out = np.maximum.reduce([-xi[:, 0], -xi[:, 1], xi.sum(axis=1) - 1, np.zeros(len(xi))])
     else:
         out = np.maximum(np.abs(xi).max(axis=1) - 1, 0.0)
-    key = np.where(out <= 1e-9, dist, 1e30 + out)
-    order = np.lexsort((key, pi))
+    # an element that contains the projection, the nearest along the normal;
+    # else the one whose nearest point (projection clipped to the element) is
+    # closest in space (a point between two elements' normal prisms)
+    clipped = _clip_local(etype, xi)
+    y, _, _ = element_geometry(disc.mesh, elements[ei], clipped)
+    outside = out > 1e-9
+    key = np.where(outside, np.linalg.norm(points[pi] - y, axis=1), dist)
+    order = np.lexsort((key, outside, pi))
     first = np.ones(order.size, dtype=bool)
     first[1:] = pi[order][1:] != pi[order][:-1]
     sel = order[first]
     best_el[pi[sel]] = elements[ei[sel]]
-    best_xi[pi[sel]] = xi[sel]
-    inside[pi[sel]] = out[sel] <= 1e-9
-    if etype.startswith("tri"):
-        best_xi = np.clip(best_xi, 0, 1)
-        s = best_xi.sum(axis=1)
-        best_xi[s > 1] /= s[s > 1, None]
-    else:
-        best_xi = np.clip(best_xi, -1, 1)
+    best_xi[pi[sel]] = clipped[sel]
+    inside[pi[sel]] = ~outside[sel]
     return best_el, best_xi, inside
+
+
+def _clip_local(etype: str, xi: np.ndarray) -> np.ndarray:
+    """Local coordinates moved onto the reference element (triangles: into
+    the unit triangle; quadrilaterals: into [-1, 1]^2)."""
+    if etype.startswith("tri"):
+        xi = np.clip(xi, 0, 1)
+        s = xi.sum(axis=1)
+        xi[s > 1] /= s[s > 1, None]
+        return xi
+    return np.clip(xi, -1, 1)
 
 
 

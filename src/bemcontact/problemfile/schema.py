@@ -196,8 +196,8 @@ CONTACT = Key(
             True, length=2),
         *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance"),
         Key("frame_on", "string", "which surface carries the frame (its normals define gap "
-            "and slip): `coarser` or a body name. Name the flat body when a curved body "
-            "presses on a flat one", default="coarser"),
+            "and slip): `between` the two surfaces (midway, normals bisecting theirs), "
+            "`coarser` or a body name (on that surface)", default="coarser"),
         *keys_of(SolverOptions, "penalty", penalty=dict(
             doc="this pair's augmentation factor c (overrides `solver.penalty`)",
             default=NO_DEFAULT, default_text="`solver.penalty`")),

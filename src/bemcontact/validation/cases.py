@@ -170,12 +170,14 @@ def two_spheres(
     approach: float = 0.06,
     setup: SphereOnBlock | None = None,
     order: int = 1,
+    friction_coefficient: float = 0.0,
+    frame_on: str = "coarser",
 ) -> ContactProblem:
     """Two identical hemispheres (radius, materials and mesh grading of
     ``setup``), apexes on the z axis ``gap`` apart (the lower one's at
     z = -gap/2, flat base clamped; the upper one's at z = +gap/2), the upper
-    base pushed down by ``gap + approach`` (displacement control,
-    frictionless).  The bodies start apart: the frame pairs the surfaces
+    base pushed down by ``gap + approach`` (displacement control; Coulomb
+    friction ``friction_coefficient``, the frame placed by ``frame_on``).  The bodies start apart: the frame pairs the surfaces
     by normal projection within ``gap + 1.2 fine_radius^2 / R`` (the
     initial gap over the fine zone) and the contact closes under load.
     Hertz with R_eff = R/2: a = sqrt(R approach / 2)."""
@@ -190,7 +192,9 @@ def two_spheres(
         caps[1], mat, {"base": Displacement((0.0, 0.0, -float(gap + approach)))}, name="upper"
     )
     search = gap + 1.2 * s.fine_radius**2 / s.radius
-    return ContactProblem(lower, upper, ContactPair("contact", "contact", 0.0, search_distance=search))
+    pair = ContactPair("contact", "contact", friction_coefficient, search_distance=search,
+                       frame_on=frame_on)
+    return ContactProblem(lower, upper, pair)
 
 
 def tangential_steps(

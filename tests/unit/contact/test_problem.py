@@ -183,7 +183,7 @@ def test_frame_on_chooses_the_frame_surface():
     for on, owner in (("coarser", 1), ("body1", 0), ("body2", 1)):
         prob = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", MU, frame_on=on))
         assert prob.frame.owner == owner
-    with pytest.raises(bc.ConfigError, match=r"frame_on must be one of 'coarser', 'body1', 'body2', got 'lower'"):
+    with pytest.raises(bc.ConfigError, match=r"frame_on must be one of 'coarser', 'between', 'body1', 'body2', got 'lower'"):
         bc.ContactPair("zmax", "zmin", frame_on="lower")
 
 
