@@ -62,19 +62,22 @@ MESH_PAIRS = {
 }
 
 
-def solve_patch(m1, m2, rule="mortar", swap=False):
+def solve_patch(m1, m2, rule="mortar", swap=False, frame_on="coarser"):
     b1, b2 = lower_block(m1), upper_block(m2)
     if swap:
-        problem = ContactProblem(b2, b1, ContactPair("zmin", "zmax", 0.0, rule))
+        problem = ContactProblem(b2, b1, ContactPair("zmin", "zmax", 0.0, rule, frame_on=frame_on))
     else:
-        problem = ContactProblem(b1, b2, ContactPair("zmax", "zmin", 0.0, rule))
+        problem = ContactProblem(b1, b2, ContactPair("zmax", "zmin", 0.0, rule, frame_on=frame_on))
     return problem.solve(SolverOptions(tolerance=1e-12))
 
 
-@pytest.fixture(scope="module", params=list(MESH_PAIRS))
+# every mesh pair with the frame on the coarser surface and between the surfaces
+@pytest.fixture(scope="module", params=[(m, f) for f in ("coarser", "between") for m in MESH_PAIRS],
+                ids=lambda p: f"{p[0]} ({p[1]})")
 def patch(request):
-    m1, m2 = MESH_PAIRS[request.param]()
-    return request.param, m1, m2, solve_patch(m1, m2)
+    pair, frame_on = request.param
+    m1, m2 = MESH_PAIRS[pair]()
+    return f"{pair} ({frame_on})", m1, m2, solve_patch(m1, m2, frame_on=frame_on)
 
 
 def test_patch_pressure_is_uniform(patch):

@@ -1,0 +1,89 @@
+"""The frame between the surfaces (docs/frame.md): two identical steel
+hemispheres (R = 10 mm, graded to h = 0.1 mm at the contact, non-matching
+meshes) pressed together by 0.06 mm in 4 increments, with Coulomb friction
+mu = 0.3.  Mirror symmetry about the contact plane makes the exact tangential
+traction zero everywhere and the normal force that of the frictionless
+contact (Hertz with R_eff = R/2, a = 0.554 mm).
+
+Tiers and why:
+* max |q| <= 0.01 p0 (the issue's bound; measured 0.0093): what remains is
+  the two meshes' different discretization error of the surface's radial
+  displacement (the relative slip of the frictionless solve is 3e-5 mm, 1 %
+  of u_r at the edge), which stick converts into shear.  The frame on one
+  sphere gives 0.075 p0 here (its normal is tilted by r/R).
+* frictional normal force = frictionless to 1e-4 (measured 2.4e-6).
+* the same numbers whichever body is named first (1e-9: the frame and the
+  integration do not depend on the order; only round-off differs).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import bemcontact as bc
+from bemcontact.validation import cases
+from bemcontact.validation.reference import contact as ref
+
+pytestmark = pytest.mark.validation
+
+H = 0.1
+INCREMENTS = 4
+
+
+def _solve(mu: float, frame_on: str = "between", swap: bool = False) -> bc.ContactResult:
+    p = cases.two_spheres(H, gap=0.0, approach=0.06, friction_coefficient=mu, frame_on=frame_on)
+    if swap:
+        lower, upper = p.bodies
+        pair = p.pair
+        p = bc.ContactProblem(upper, lower, bc.ContactPair(
+            pair.surface2, pair.surface1, mu, search_distance=pair.search_distance,
+            frame_on=frame_on))
+    return p.solve(bc.SolverOptions(load_steps=INCREMENTS))
+
+
+@pytest.fixture(scope="module")
+def frictional():
+    return _solve(0.3)
+
+
+def _shear(res: bc.ContactResult) -> float:
+    fr = res.frame
+    return float(np.linalg.norm(fr.tangential_traction, axis=1).max() / fr.pressure.max())
+
+
+def test_identical_spheres_carry_no_shear(frictional):
+    q = _shear(frictional)
+    assert frictional.converged
+    assert q <= 0.01, f"max |q| = {q:.4f} p0 between two identical spheres (exact: 0)"
+    assert frictional.frame.counts()["stick"] > 50  # the friction is engaged
+
+
+def test_friction_leaves_the_normal_force_unchanged(frictional):
+    frictionless = _solve(0.0)
+    rel = abs(frictional.normal_force / frictionless.normal_force - 1)
+    assert rel <= 1e-4, f"normal force with friction differs by {rel:.2e}"
+    # and its peak pressure is Hertz's for that force (R_eff = R/2; measured 0.2 %,
+    # the 2 % tier of the Hertz validation in docs/validation.md)
+    s = cases.SphereOnBlock()
+    h = ref.hertz(frictionless.normal_force, s.radius / 2, s.contact_modulus)
+    assert frictionless.frame.pressure.max() == pytest.approx(h.peak_pressure, rel=0.02)
+
+
+def test_body_order_does_not_matter(frictional):
+    swapped = _solve(0.3, swap=True)
+    assert swapped.names == ("upper", "lower")
+    assert swapped.normal_force == pytest.approx(frictional.normal_force, rel=1e-9)
+    assert _shear(swapped) == pytest.approx(_shear(frictional), rel=1e-6, abs=1e-9)
+
+
+def test_frame_midway_with_bisecting_normals(frictional):
+    """Frame nodes in contact lie on the symmetry plane (to the flat facets'
+    sag, h^2/(8R) = 1.3e-4 mm: bound h^2/(4R)) with normals along z (to the
+    nodal normals' noise, measured 0.05 deg)."""
+    fr = frictional.frame
+    closed = fr.state > 0
+    R = cases.SphereOnBlock().radius
+    assert np.abs(fr.points[closed, 2]).max() <= H**2 / (4 * R)
+    tilt = np.degrees(np.arccos(np.abs(fr.normals[closed, 2]))).max()
+    assert tilt <= 0.1, f"frame normals tilted by up to {tilt:.3f} deg in the contact zone"
