@@ -56,6 +56,9 @@ class InterfaceSystem:
         self.act = act
         m = act.size
         self.m = m
+        #: the friction coefficient of each node in the current increment
+        #: (0 while the node closes: :meth:`start_increment`)
+        self.mu_nodes = np.full(m, self.mu)
         Q = frame.Q[act]  # (m, 3, 3)
         a = frame.weights[act]
         self.a = a
@@ -160,6 +163,23 @@ class InterfaceSystem:
     def k_initial_t(self) -> np.ndarray:
         return self.k0X.reshape(-1, 3)[:, :2].copy()
 
+    def start_increment(self, z: np.ndarray, ell: np.ndarray) -> None:
+        """Before an increment from the converged ``z`` at load ``ell``: a
+        node with a gap there closes, if at all, during the increment, and
+        its slip is counted from where it touches, which is not known in
+        advance.  With the stick reference at the increment's start, the
+        tangential part of its approach would be resisted as if it were slip
+        (a frame normal tilted against the approach: docs/frame.md).  Such a
+        node is frictionless for this increment, and sticks or slips from
+        the increment's end on.  A node touching at the start (gap <= 1e-8 of
+        its frame element size) keeps its friction, and so do the nodes that
+        touch first when every node is open (the smallest gap): they hold
+        the bodies from the start, as friction at a first contact point does
+        (a body held laterally only by friction would otherwise be free)."""
+        gap = self.k(z, ell)[:, 2]
+        first = max(float(gap.min()), 0.0) if gap.size else 0.0
+        self.mu_nodes = np.where(gap > first + 1e-8 * self.frame.size[self.act], 0.0, self.mu)
+
     def _rows(self, lam, parts, ell):
         """Linear equations besides the law: free-mode equilibrium and the
         prescribed resultants of controlled components (traction units)."""
@@ -178,7 +198,7 @@ class InterfaceSystem:
     def residual(self, z, ell, k_prev):
         lam, parts = self.split(z)
         kk = self.k(z, ell)
-        phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r).ravel()
+        phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu_nodes, self.r, self.r).ravel()
         eq = self._rows(lam, parts, ell)
         return np.concatenate([phi, *eq]) if eq else phi
 
@@ -188,7 +208,7 @@ class InterfaceSystem:
         column: returns ``(J[rows], rows, state)``."""
         lam, _ = self.split(z)
         kk = self.k(z, ell)
-        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu, self.r, self.r)
+        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu_nodes, self.r, self.r)
         m3, nz = 3 * self.m, z.size
         closed = np.flatnonzero(state != law.OPEN)
         cdofs = (3 * closed[:, None] + np.arange(3)).ravel()
@@ -218,7 +238,7 @@ class InterfaceSystem:
         translation moves the normal gaps (it is left to the error of the
         singular matrix)."""
         lam, _ = self.split(z)
-        state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu, self.r, self.r)
+        state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu_nodes, self.r, self.r)
         if (state != law.OPEN).any():
             return z
         z = z.copy()

@@ -25,6 +25,10 @@ solution does not depend on r_n, r_t > 0; they only change the Newton path.
 
 States: OPEN (sn <= 0: lam = 0), STICK (|st| <= R: k_n = 0, k_t = k_prev),
 SLIP (|st| > R: k_n = 0, lam_t = -R (k_t - k_prev)/|k_t - k_prev|).
+
+``mu`` is a number or one coefficient per node (m,): the interface system
+sets it to 0 for the increment in which a node closes (see
+:meth:`~bemcontact.contact.interface.InterfaceSystem.start_increment`).
 """
 
 from __future__ import annotations
@@ -50,10 +54,10 @@ def contact_state(
     """(m,) int8: OPEN, STICK or SLIP for each node (frictionless closed
     nodes count as SLIP)."""
     _, _, sn, st = _augmented(lam, k, k_prev, r_n, r_t)
+    mu = np.broadcast_to(np.asarray(mu, dtype=float), (lam.shape[0],))
     R = mu * np.maximum(sn, 0.0)
     state = np.full(lam.shape[0], SLIP, dtype=np.int8)
-    if mu > 0:
-        state[np.linalg.norm(st, axis=1) <= R] = STICK
+    state[(mu > 0) & (np.linalg.norm(st, axis=1) <= R)] = STICK
     state[sn <= 0] = OPEN
     return state
 
@@ -85,6 +89,7 @@ def jacobian(
     """
     m = lam.shape[0]
     r_n, r_t, sn, st = _augmented(lam, k, k_prev, r_n, r_t)
+    mu = np.broadcast_to(np.asarray(mu, dtype=float), (m,))
     pn = np.maximum(sn, 0.0)
     R = mu * pn
     state = contact_state(lam, k, k_prev, mu, r_n, r_t)
@@ -108,9 +113,9 @@ def jacobian(
         P = I2[None] - s[:, :, None] * s[:, None, :]
         c = np.where(ns > 0, R[sl] / safe, 0.0)
         Jl[sl, :2, :2] = I2[None] - c[:, None, None] * P
-        Jl[sl, :2, 2] = -mu * s
+        Jl[sl, :2, 2] = -mu[sl][:, None] * s
         Jk[sl, :2, :2] = (c * r_t[sl])[:, None, None] * P
-        Jk[sl, :2, 2] = mu * r_n[sl][:, None] * s
+        Jk[sl, :2, 2] = (mu[sl] * r_n[sl])[:, None] * s
     return Jl, Jk, state
 
 

@@ -22,7 +22,7 @@ def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
     lam, parts = system.split(z)
     kk = system.k(z, ell)
     lam3 = lam.reshape(-1, 3)
-    state_act = law.contact_state(lam3, kk, k_prev, system.mu, system.r, system.r)
+    state_act = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
     act = system.act
     Q = fr.Q[act]
     mfull = fr.n_frame

@@ -395,15 +395,20 @@ def platen_history(result, body: str = "sphere", region: str = "base", component
     return Q, U
 
 
-def tangential_approach(Q, U, contact_radius: float, S: float, reference: int = 1) -> np.ndarray:
-    """Cattaneo–Mindlin's tangential approach from the platen's (Q, U): the
-    translation U also holds the finite bodies' linear elastic compliance
-    (the "distant points" of the theory are a half-space notion); it is
-    measured as U/Q at an all-stick step ``reference`` (a small Q) and
-    replaced by the contact's own initial compliance S / (8 a)."""
+def tangential_approach(Q, U, contact_radius: float, S: float, reference: int = 1,
+                        origin: int = 0) -> np.ndarray:
+    """Cattaneo–Mindlin's tangential approach from the platen's (Q, U),
+    measured from the state ``origin`` (Q = 0 after the normal load: the
+    platen's translation there, a drift of the discrete solution under a
+    purely normal load, is not part of the approach).  The translation also
+    holds the finite bodies' linear elastic compliance (the "distant
+    points" of the theory are a half-space notion); it is measured as dU/dQ
+    at an all-stick step ``reference`` (a small Q) and replaced by the
+    contact's own initial compliance S / (8 a)."""
     Q, U = np.asarray(Q, dtype=float), np.asarray(U, dtype=float)
-    bulk = U[reference] / Q[reference] - S / (8.0 * contact_radius)
-    return U - bulk * Q
+    dQ, dU = Q - Q[origin], U - U[origin]
+    bulk = dU[reference] / dQ[reference] - S / (8.0 * contact_radius)
+    return dU - bulk * dQ
 
 
 def radial_profile(frame: FrameResult, center=(0.0, 0.0)) -> tuple[np.ndarray, ...]:

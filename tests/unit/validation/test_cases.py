@@ -20,5 +20,8 @@ def test_tangential_approach_removes_the_linear_bulk_compliance():
     U = 3.7e-6 * Q + exact
     d = cases.tangential_approach(Q, U, a, S)
     np.testing.assert_allclose(d[2:], exact[2:], rtol=1e-6)
+    # a platen drift at Q = 0 (the state after the normal load) is not approach
+    np.testing.assert_allclose(cases.tangential_approach(Q, U + 2e-5, a, S)[2:], exact[2:],
+                               rtol=1e-6)
     G, nu = s.shear_modulus, s.poisson_ratio
     assert S == pytest.approx(2 * (2 - nu) / G, rel=1e-15)
