@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "element.hpp"
-#include "quadrature.hpp"
+#include "bem/element.hpp"
+#include "bem/quadrature.hpp"
 
 namespace bemcontact {
 

@@ -1,4 +1,4 @@
-#include "operators.hpp"
+#include "bem/operators.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -18,7 +18,7 @@
 #include <memory>
 #include <vector>
 
-#include "hmatrix.hpp"
+#include "hmat/hmatrix.hpp"
 
 namespace bemcontact {
 

@@ -1,5 +1,5 @@
-#include "hmatrix.hpp"
-#include "hlu.hpp"
+#include "hmat/hmatrix.hpp"
+#include "hmat/hlu.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -14,7 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "operators.hpp"
+#include "bem/operators.hpp"
 
 namespace bemcontact {
 

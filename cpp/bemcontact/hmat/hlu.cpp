@@ -1,5 +1,5 @@
 // H-LU factorization in hierarchical-matrix arithmetic (see hlu.hpp).
-#include "hlu.hpp"
+#include "hmat/hlu.hpp"
 
 #include <algorithm>
 #include <chrono>

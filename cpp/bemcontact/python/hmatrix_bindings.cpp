@@ -5,9 +5,9 @@
 
 #include <cstring>
 
-#include "bind_common.hpp"
-#include "hlu.hpp"
-#include "hmatrix.hpp"
+#include "python/bind_common.hpp"
+#include "hmat/hlu.hpp"
+#include "hmat/hmatrix.hpp"
 
 namespace nb = nanobind;
 using namespace bemcontact;

@@ -6,9 +6,9 @@
 #include <algorithm>
 #include <cstring>
 
-#include "bind_common.hpp"
-#include "element.hpp"
-#include "operators.hpp"
+#include "python/bind_common.hpp"
+#include "bem/element.hpp"
+#include "bem/operators.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
