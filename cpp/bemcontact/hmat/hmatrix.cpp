@@ -1,5 +1,4 @@
 #include "hmat/hmatrix.hpp"
-#include "hmat/hlu.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,6 +6,8 @@
 #include <cstring>
 #include <numeric>
 #include <unordered_map>
+
+#include "la/lowrank.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -714,7 +715,7 @@ void HMatrix::fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const {
 }
 
 
-// Truncation of U V^T to the block's own accuracy (truncate_lowrank, hlu.cpp).
+// Truncation of U V^T to the block's own accuracy (truncate_lowrank, la/lowrank.cpp).
 // Called inside the OpenMP build: a LAPACK failure (never seen) keeps the
 // block as it is rather than letting an exception leave the parallel region.
 void HMatrix::recompress(HBlock& b, int64_t m, int64_t n, double abs_tol) const {

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "bem/operators.hpp"
+#include "la/lapack.hpp"
 
 namespace bemcontact {
 
@@ -35,20 +36,6 @@ struct HParams {
   // half the block's budget
   bool mixed = false;
   int norm_samples = 64;  // nodes whose rows estimate the norms (global)
-};
-
-// LAPACK routines (Fortran calling convention, 32-bit integers), taken from
-// scipy.linalg.cython_lapack at run time so that the build needs no LAPACK.
-struct Lapack {
-  void (*dgeqrf)(int*, int*, double*, int*, double*, double*, int*, int*) = nullptr;
-  void (*dormqr)(char*, char*, int*, int*, int*, double*, int*, double*, double*, int*,
-                 double*, int*, int*) = nullptr;
-  void (*dgesvd)(char*, char*, int*, int*, double*, int*, double*, double*, int*, double*,
-                 int*, double*, int*, int*) = nullptr;
-  // optional (divide and conquer, faster than dgesvd for the small cores)
-  void (*dgesdd)(char*, int*, int*, double*, int*, double*, double*, int*, double*, int*,
-                 double*, int*, int*, int*) = nullptr;
-  bool ok() const { return dgeqrf && dormqr && dgesvd; }
 };
 
 struct HCluster {

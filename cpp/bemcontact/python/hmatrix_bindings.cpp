@@ -8,6 +8,7 @@
 #include "python/bind_common.hpp"
 #include "hmat/hlu.hpp"
 #include "hmat/hmatrix.hpp"
+#include "la/lapack.hpp"
 
 namespace nb = nanobind;
 using namespace bemcontact;
