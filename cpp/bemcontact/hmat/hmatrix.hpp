@@ -14,7 +14,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "bem/operators.hpp"
+#include "bem/integration.hpp"
 #include "la/lapack.hpp"
 
 namespace bemcontact {

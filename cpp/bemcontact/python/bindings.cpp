@@ -8,7 +8,7 @@
 
 #include "python/bind_common.hpp"
 #include "bem/element.hpp"
-#include "bem/operators.hpp"
+#include "bem/integration.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -1,4 +1,4 @@
-#include "bem/operators.hpp"
+#include "bem/integration.hpp"
 
 #include <algorithm>
 #include <cmath>
