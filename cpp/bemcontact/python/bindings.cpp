@@ -9,6 +9,8 @@
 #include "python/bind_common.hpp"
 #include "bem/element.hpp"
 #include "bem/integration.hpp"
+#include "bem/operators.hpp"
+#include "bem/quadrature.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
