@@ -8,6 +8,10 @@
 // -H on displacement-given ones; b = B * boundary values) is applied to a
 // given block of vectors W during the build and never stored.  Low-rank
 // blocks of A are recompressed (QR + SVD, LAPACK from SciPy) to A's own rank.
+//
+// Sources: the build in hmatrix.cpp, the cluster tree in cluster.{hpp,cpp},
+// node rows, node columns and entries from the element integrals in
+// entries.cpp, the low-rank blocks in aca.cpp, the products in apply.cpp.
 #pragma once
 
 #include <cstdint>
@@ -15,6 +19,7 @@
 #include <vector>
 
 #include "bem/integration.hpp"
+#include "hmat/cluster.hpp"
 #include "la/lapack.hpp"
 
 namespace bemcontact {
@@ -38,17 +43,9 @@ struct HParams {
   int norm_samples = 64;  // nodes whose rows estimate the norms (global)
 };
 
-struct HCluster {
-  int64_t begin = 0, end = 0;  // range in the permuted node order
-  int child[2] = {-1, -1};
-  double lo[3], hi[3];  // bounding box of the nodes' element supports
-  bool leaf() const { return child[0] < 0; }
-  int64_t size() const { return end - begin; }
-};
-
 using half = _Float16;
 // (through float: half <-> float is one instruction with F16C; the hot
-// product converts whole columns to float first, hmatrix.cpp apply)
+// product converts whole columns to float first, apply.cpp)
 inline double to_double(half x) { return static_cast<double>(static_cast<float>(x)); }
 inline half to_half(double x) { return static_cast<half>(static_cast<float>(x)); }
 
@@ -61,7 +58,7 @@ struct HBlock {
   // last rank - kd - kf in half precision (Uh, Vh: each column divided by its
   // largest magnitude, kept in sh as u-scale, v-scale pairs, so that the
   // narrow half exponent range holds it).  A term goes to a lower precision
-  // when its rounding fits the block's error budget (hmatrix.cpp, fill_aca).
+  // when its rounding fits the block's error budget (aca.cpp, fill_aca).
   std::vector<double> A, U, V;
   std::vector<float> Uf, Vf;
   std::vector<half> Uh, Vh;
@@ -129,8 +126,6 @@ class HMatrix {
   int64_t col_integrals() const { return col_integrals_; }
 
  private:
-  int build_cluster(int64_t begin, int64_t end, const std::vector<double>& sup_lo,
-                    const std::vector<double>& sup_hi, int leaf_size);
   void build_blocks(int tau, int sigma, double eta);
   // 3 rows (node p in permuted order) of [H | G] restricted to cluster sigma's
   // columns: out is 3 x (6 |sigma|), H columns first.
@@ -150,8 +145,7 @@ class HMatrix {
   std::vector<int64_t> support_elements(const HCluster& c) const;
 
   int64_t n_ = 0;
-  const double* points_ = nullptr;  // original order, during the build only
-  std::vector<double> pts_;         // permuted points (N x 3)
+  std::vector<double> pts_;  // permuted points (N x 3)
   std::vector<Element> els_;
   Kelvin K_;
   QuadratureParams q_;
