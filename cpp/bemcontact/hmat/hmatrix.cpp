@@ -28,19 +28,41 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
       s_(s) {
   const auto t0 = std::chrono::steady_clock::now();
   els_ = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
-  // functional node -> elements (CSR)
+  index_node_elements();
+  std::vector<double> sup_lo, sup_hi;
+  support_boxes(points, sup_lo, sup_hi);
+  build_cluster_tree(points, n_, sup_lo, sup_hi, std::max(hp.leaf_size, 1), clusters_, perm_);
+  permute_inputs(points, known_u, W);
+  build_blocks(0, 0, hp.eta);
+  if (hp.global) estimate_norms(threads);
+  std::vector<double> bwp, rs;
+  fill_blocks(threads, bwp, rs);
+  add_rigid_diagonal(rs, bwp);
+  bw_.assign(3 * n_ * s_, 0.0);
+  for (int64_t p = 0; p < n_; ++p)
+    for (int c = 0; c < 3; ++c)
+      if (s_) std::memcpy(&bw_[(3 * perm_[p] + c) * s_], &bwp[(3 * p + c) * s_], s_ * sizeof(double));
+  w_.clear();
+  w_.shrink_to_fit();
+  build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void HMatrix::index_node_elements() {
   n2e_ptr_.assign(n_ + 1, 0);
   for (const Element& e : els_)
     for (int k = 0; k < e.n; ++k) ++n2e_ptr_[e.f[k] + 1];
   for (int64_t i = 0; i < n_; ++i) n2e_ptr_[i + 1] += n2e_ptr_[i];
   n2e_.assign(n2e_ptr_[n_], 0);
-  {
-    std::vector<int64_t> fill(n2e_ptr_.begin(), n2e_ptr_.end() - 1);
-    for (int64_t ie = 0; ie < static_cast<int64_t>(els_.size()); ++ie)
-      for (int k = 0; k < els_[ie].n; ++k) n2e_[fill[els_[ie].f[k]]++] = ie;
-  }
+  std::vector<int64_t> fill(n2e_ptr_.begin(), n2e_ptr_.end() - 1);
+  for (int64_t ie = 0; ie < static_cast<int64_t>(els_.size()); ++ie)
+    for (int k = 0; k < els_[ie].n; ++k) n2e_[fill[els_[ie].f[k]]++] = ie;
+}
+
+void HMatrix::support_boxes(const double* points, std::vector<double>& sup_lo,
+                            std::vector<double>& sup_hi) const {
   // support box of every node: its elements' geometric nodes (padded for curvature)
-  std::vector<double> sup_lo(3 * n_, INFINITY), sup_hi(3 * n_, -INFINITY);
+  sup_lo.assign(3 * n_, INFINITY);
+  sup_hi.assign(3 * n_, -INFINITY);
   for (int64_t i = 0; i < n_; ++i) {
     for (int64_t a = n2e_ptr_[i]; a < n2e_ptr_[i + 1]; ++a) {
       const Element& e = els_[n2e_[a]];
@@ -54,7 +76,9 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
       sup_hi[3 * i + d] = std::max(sup_hi[3 * i + d], points[3 * i + d]);
     }
   }
-  build_cluster_tree(points, n_, sup_lo, sup_hi, std::max(hp.leaf_size, 1), clusters_, perm_);
+}
+
+void HMatrix::permute_inputs(const double* points, const uint8_t* known_u, const double* W) {
   pos_.assign(n_, 0);
   for (int64_t p = 0; p < n_; ++p) pos_[perm_[p]] = p;
   pts_.resize(3 * n_);
@@ -67,8 +91,9 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
       ku_[3 * p + c] = known_u[3 * perm_[p] + c] ? 1 : 0;
       if (s_) std::memcpy(&w_[(3 * p + c) * s_], W + (3 * perm_[p] + c) * s_, s_ * sizeof(double));
     }
-  build_blocks(0, 0, hp.eta);
-  if (hp.global) estimate_norms(threads);
+}
+
+void HMatrix::fill_blocks(int threads, std::vector<double>& bw, std::vector<double>& rs) {
   // fill, largest blocks first (dynamic schedule balances the rest)
   std::vector<int64_t> order(blocks_.size());
   std::iota(order.begin(), order.end(), 0);
@@ -113,12 +138,15 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
   }
   // sum the threads in a fixed order (results independent of the schedule up
   // to the order of two-term sums)
-  std::vector<double>& rs = rs_t[0];
-  std::vector<double>& bwp = bw_t[0];
   for (int th = 1; th < nt; ++th) {
-    for (size_t i = 0; i < rs.size(); ++i) rs[i] += rs_t[th][i];
-    for (size_t i = 0; i < bwp.size(); ++i) bwp[i] += bw_t[th][i];
+    for (size_t i = 0; i < rs_t[0].size(); ++i) rs_t[0][i] += rs_t[th][i];
+    for (size_t i = 0; i < bw_t[0].size(); ++i) bw_t[0][i] += bw_t[th][i];
   }
+  rs.swap(rs_t[0]);
+  bw.swap(bw_t[0]);
+}
+
+void HMatrix::add_rigid_diagonal(const std::vector<double>& rs, std::vector<double>& bw) {
   // rigid-body translation: H_ii = -sum_{j != i} H_ij per component
   diag_.assign(9 * n_, 0.0);
   for (int64_t p = 0; p < n_; ++p)
@@ -138,18 +166,11 @@ HMatrix::HMatrix(const MeshView& m, const double* points, int64_t n_points,
             b.A[(3 * lp + r) * nc + 3 * lp + c] = h;
           } else {
             for (int64_t q2 = 0; q2 < s_; ++q2)
-              bwp[(3 * p + r) * s_ + q2] -= h * w_[(3 * p + c) * s_ + q2];
+              bw[(3 * p + r) * s_ + q2] -= h * w_[(3 * p + c) * s_ + q2];
           }
         }
     }
   }
-  bw_.assign(3 * n_ * s_, 0.0);
-  for (int64_t p = 0; p < n_; ++p)
-    for (int c = 0; c < 3; ++c)
-      if (s_) std::memcpy(&bw_[(3 * perm_[p] + c) * s_], &bwp[(3 * p + c) * s_], s_ * sizeof(double));
-  w_.clear();
-  w_.shrink_to_fit();
-  build_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 // Root-mean-square entries of H (with its rigid-body diagonal) and of G,

@@ -126,9 +126,22 @@ class HMatrix {
   int64_t col_integrals() const { return col_integrals_; }
 
  private:
+  // the build, in this order (hmatrix.cpp): functional node -> elements
+  // (n2e_ptr_, n2e_); the support box (lo, hi: N x 3) of every node; the
+  // cluster tree (cluster.hpp); points, known_u and W in the permuted order;
+  // the block partition; every block filled (in parallel), their B W rows and
+  // H row sums added up in bw and rs (permuted order); the rigid-body diagonal
+  // of H from rs into A or bw
+  void index_node_elements();
+  void support_boxes(const double* points, std::vector<double>& lo,
+                     std::vector<double>& hi) const;
+  void permute_inputs(const double* points, const uint8_t* known_u, const double* W);
   void build_blocks(int tau, int sigma, double eta);
-  // 3 rows (node p in permuted order) of [H | G] restricted to cluster sigma's
-  // columns: out is 3 x (6 |sigma|), H columns first.
+  void fill_blocks(int threads, std::vector<double>& bw, std::vector<double>& rs);
+  void add_rigid_diagonal(const std::vector<double>& rs, std::vector<double>& bw);
+  // element integrals (entries.cpp): 3 rows (node p in permuted order) of
+  // [H | G] restricted to cluster sigma's columns: out is 3 x (6 |sigma|), H
+  // columns first.
   void node_rows(int64_t p, const HCluster& sigma, const std::vector<int64_t>& elems,
                  double* out) const;
   // 3 columns (node q, permuted) of H and of G over cluster tau's rows: out
@@ -140,8 +153,10 @@ class HMatrix {
   // permuted order, thread-private)
   void fill_dense(HBlock& b, double* bw, double* rs) const;
   void fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const;
+  struct Aca;  // one block's cross approximation (aca.cpp)
   // (truncation relative to the block norm; callers scale columns to one unit)
   void recompress(HBlock& b, int64_t m, int64_t n, double abs_tol = 0.0) const;
+  // the elements touching the nodes of c (entries.cpp)
   std::vector<int64_t> support_elements(const HCluster& c) const;
 
   int64_t n_ = 0;
