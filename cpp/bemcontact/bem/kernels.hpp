@@ -24,6 +24,17 @@ struct Kelvin {
 constexpr int kTerms = 17;
 constexpr size_t kChunk = 64;
 
+// The 6 symmetric dyadic terms s d_i d_j, (i, j) = 00, 11, 22, 01, 02, 12, of
+// point p: q[t * kChunk + p], t = 0..5 (inlined into point_terms's SIMD loop).
+inline void dyadic_terms(double* q, size_t p, double s, double d0, double d1, double d2) {
+  q[0 * kChunk + p] = s * d0 * d0;
+  q[1 * kChunk + p] = s * d1 * d1;
+  q[2 * kChunk + p] = s * d2 * d2;
+  q[3 * kChunk + p] = s * d0 * d1;
+  q[4 * kChunk + p] = s * d0 * d2;
+  q[5 * kChunk + p] = s * d1 * d2;
+}
+
 // q[m * kChunk + i] (m < kTerms) for the points p0 .. p0 + cnt - 1 of the
 // point set c (np points, structure of arrays with stride np: x, y, z, nx, ny,
 // nz, w*J, then the basis values; bem/integration.cpp), seen from x
@@ -46,24 +57,14 @@ inline void point_terms(const double* c, size_t np, size_t p0, size_t cnt, const
     // G: U_ij = sg (a delta_ij + d_i d_j)
     const double sg = c1 * ir * wj[p];
     q[0 * kChunk + p] = sg;
-    q[1 * kChunk + p] = sg * d0 * d0;
-    q[2 * kChunk + p] = sg * d1 * d1;
-    q[3 * kChunk + p] = sg * d2 * d2;
-    q[4 * kChunk + p] = sg * d0 * d1;
-    q[5 * kChunk + p] = sg * d0 * d2;
-    q[6 * kChunk + p] = sg * d1 * d2;
+    dyadic_terms(q + 1 * kChunk, p, sg, d0, d1, d2);
     // H: T_ij = sh (drdn (b delta_ij + 3 d_i d_j) - b (d_i n_j - d_j n_i))
     const double sh = -c2 * ir * ir * wj[p];
     const double drdn = d0 * nx[p] + d1 * ny[p] + d2 * nz[p];
     const double s3 = 3.0 * sh * drdn;
     const double sb = sh * kb;
     q[7 * kChunk + p] = sb * drdn;
-    q[8 * kChunk + p] = s3 * d0 * d0;
-    q[9 * kChunk + p] = s3 * d1 * d1;
-    q[10 * kChunk + p] = s3 * d2 * d2;
-    q[11 * kChunk + p] = s3 * d0 * d1;
-    q[12 * kChunk + p] = s3 * d0 * d2;
-    q[13 * kChunk + p] = s3 * d1 * d2;
+    dyadic_terms(q + 8 * kChunk, p, s3, d0, d1, d2);
     q[14 * kChunk + p] = -sb * (d0 * ny[p] - d1 * nx[p]);  // antisymmetric (0,1)
     q[15 * kChunk + p] = -sb * (d0 * nz[p] - d2 * nx[p]);  // (0,2)
     q[16 * kChunk + p] = -sb * (d1 * nz[p] - d2 * ny[p]);  // (1,2)

@@ -3,11 +3,8 @@
 #include <vector>
 
 #include "hmat/hmatrix.hpp"
+#include "hmat/threads.hpp"
 #include "la/dot.hpp"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace bemcontact {
 
@@ -70,11 +67,7 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
   const int64_t nb = static_cast<int64_t>(blocks_.size());
 #pragma omp parallel num_threads(nt)
   {
-#ifdef _OPENMP
-    const int tid = omp_get_thread_num();
-#else
-    const int tid = 0;
-#endif
+    const int tid = thread_num();
     std::vector<double>& yt = acc[tid];
     yt.assign(n3 * k, 0.0);
     std::vector<double> t;

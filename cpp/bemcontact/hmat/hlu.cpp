@@ -114,6 +114,21 @@ struct HArith {
     }
   }
 
+  // low-rank c := [c.U, U'] [c.V, V']^T truncated, where fill(U', V') writes
+  // the k new terms (U': c.m x k, V': c.n x k, column-major, zero on entry)
+  template <class F>
+  void append_terms(HNode& c, int k, F&& fill) const {
+    const int nk = c.k + k;
+    std::vector<double> nu(c.m * nk), nv(c.n * nk);
+    std::copy(c.U.begin(), c.U.end(), nu.begin());
+    std::copy(c.V.begin(), c.V.end(), nv.begin());
+    fill(nu.data() + c.k * c.m, nv.data() + c.k * c.n);
+    c.U.swap(nu);
+    c.V.swap(nv);
+    c.k = nk;
+    truncate_lowrank(c.U, c.V, c.m, c.n, c.k, eps, lapack);
+  }
+
   // c += alpha U V^T (U: c.m x k with leading dimension ldu, V: c.n x k)
   void add_rk(HNode& c, const double* U, int64_t ldu, const double* V, int64_t ldv, int k,
               double alpha) const {
@@ -121,18 +136,12 @@ struct HArith {
     if (c.kind == kFull) {
       gemm('N', 'T', c.m, c.n, k, alpha, U, ldu, V, ldv, 1.0, c.A.data(), c.m);
     } else if (c.kind == kRk) {
-      const int nk = c.k + k;
-      std::vector<double> nu(c.m * nk), nv(c.n * nk);
-      std::copy(c.U.begin(), c.U.end(), nu.begin());
-      std::copy(c.V.begin(), c.V.end(), nv.begin());
-      for (int l = 0; l < k; ++l) {
-        for (int64_t i = 0; i < c.m; ++i) nu[(c.k + l) * c.m + i] = alpha * U[l * ldu + i];
-        for (int64_t j = 0; j < c.n; ++j) nv[(c.k + l) * c.n + j] = V[l * ldv + j];
-      }
-      c.U.swap(nu);
-      c.V.swap(nv);
-      c.k = nk;
-      truncate_lowrank(c.U, c.V, c.m, c.n, c.k, eps, lapack);
+      append_terms(c, k, [&](double* nu, double* nv) {
+        for (int l = 0; l < k; ++l) {
+          for (int64_t i = 0; i < c.m; ++i) nu[l * c.m + i] = alpha * U[l * ldu + i];
+          for (int64_t j = 0; j < c.n; ++j) nv[l * c.n + j] = V[l * ldv + j];
+        }
+      });
     } else {
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) {
@@ -149,18 +158,12 @@ struct HArith {
         for (int64_t i = 0; i < c.m; ++i) c.A[j * c.m + i] += alpha * P.p[j * P.ld + i];
     } else if (c.kind == kRk) {
       // c.U c.V^T + alpha P = [c.U, alpha P] [c.V, I]^T, truncated once
-      const int nk = c.k + static_cast<int>(c.n);
-      std::vector<double> nu(c.m * nk), nv(c.n * nk, 0.0);
-      std::copy(c.U.begin(), c.U.end(), nu.begin());
-      std::copy(c.V.begin(), c.V.end(), nv.begin());
-      for (int64_t j = 0; j < c.n; ++j) {
-        for (int64_t i = 0; i < c.m; ++i) nu[(c.k + j) * c.m + i] = alpha * P.p[j * P.ld + i];
-        nv[(c.k + j) * c.n + j] = 1.0;
-      }
-      c.U.swap(nu);
-      c.V.swap(nv);
-      c.k = nk;
-      truncate_lowrank(c.U, c.V, c.m, c.n, c.k, eps, lapack);
+      append_terms(c, static_cast<int>(c.n), [&](double* nu, double* nv) {
+        for (int64_t j = 0; j < c.n; ++j) {
+          for (int64_t i = 0; i < c.m; ++i) nu[j * c.m + i] = alpha * P.p[j * P.ld + i];
+          nv[j * c.n + j] = 1.0;
+        }
+      });
     } else {
       for (int i = 0; i < 2; ++i)
         for (int j = 0; j < 2; ++j) {

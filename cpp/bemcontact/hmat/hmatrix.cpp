@@ -9,9 +9,7 @@
 #include <cstring>
 #include <numeric>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "hmat/threads.hpp"
 
 namespace bemcontact {
 
@@ -108,11 +106,7 @@ void HMatrix::fill_blocks(int threads, std::vector<double>& bw, std::vector<doub
   std::vector<std::vector<double>> bw_t(nt), rs_t(nt);
 #pragma omp parallel num_threads(nt)
   {
-#ifdef _OPENMP
-    const int tid = omp_get_thread_num();
-#else
-    const int tid = 0;
-#endif
+    const int tid = thread_num();
     bw_t[tid].assign(3 * n_ * s_, 0.0);
     rs_t[tid].assign(9 * n_, 0.0);
 #pragma omp for schedule(dynamic, 1)

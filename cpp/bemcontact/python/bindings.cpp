@@ -31,6 +31,18 @@ NpArray owned(double* data, std::initializer_list<size_t> shape) {
   return NpArray(data, shape.size(), shape.begin(), owner);
 }
 
+// Lagrange coefficients (cf, as lagrange_coefficients) of the basis of element
+// type t through the local nodes xi (9 x 2, the first nodes_per_element(t)
+// used); returns the smallest relative pivot.
+double local_basis(int t, const double* xi, double* cf) {
+  double xf[kMaxNodes][2];
+  for (int k = 0; k < nodes_per_element(t); ++k) {
+    xf[k][0] = xi[2 * k];
+    xf[k][1] = xi[2 * k + 1];
+  }
+  return lagrange_coefficients(t, xf, cf);
+}
+
 int default_threads() {
 #ifdef _OPENMP
   return omp_get_max_threads();
@@ -172,14 +184,12 @@ NB_MODULE(_core, mod) {
         for (size_t ie = 0; ie < ne; ++ie) {
           const int t = m.etype[ie];
           const int n = nodes_per_element(t);
-          double Xe[kMaxNodes][3], xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
+          double Xe[kMaxNodes][3], cf[kMaxNodes * kMaxNodes];
           for (int k = 0; k < n; ++k) {
             const int64_t g = m.conn[ie * kMaxNodes + k];
             for (int d = 0; d < 3; ++d) Xe[k][d] = m.nodes[3 * g + d];
-            xf[k][0] = m.fxi[(ie * kMaxNodes + k) * 2];
-            xf[k][1] = m.fxi[(ie * kMaxNodes + k) * 2 + 1];
           }
-          lagrange_coefficients(t, xf, cf);
+          local_basis(t, m.fxi + ie * kMaxNodes * 2, cf);
           Rule2D r;
           if (is_triangle(t)) {
             const double A[2] = {0, 0}, B[2] = {1, 0}, C[2] = {0, 1};
@@ -216,12 +226,8 @@ NB_MODULE(_core, mod) {
         double* Ny = new double[np * kMaxNodes]();
         for (size_t p = 0; p < np; ++p) {
           const int t = etype.data()[p];
-          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
-          for (int k = 0; k < nodes_per_element(t); ++k) {
-            xf[k][0] = nodes_xi.data()[(p * kMaxNodes + k) * 2];
-            xf[k][1] = nodes_xi.data()[(p * kMaxNodes + k) * 2 + 1];
-          }
-          lagrange_coefficients(t, xf, cf);
+          double cf[kMaxNodes * kMaxNodes];
+          local_basis(t, nodes_xi.data() + p * kMaxNodes * 2, cf);
           eval_basis(t, cf, xi.data()[2 * p], xi.data()[2 * p + 1], N + kMaxNodes * p,
                      Nx + kMaxNodes * p, Ny + kMaxNodes * p);
         }
@@ -240,12 +246,8 @@ NB_MODULE(_core, mod) {
         double* out = new double[ne];
         for (size_t ie = 0; ie < ne; ++ie) {
           const int t = etype.data()[ie];
-          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
-          for (int k = 0; k < nodes_per_element(t); ++k) {
-            xf[k][0] = fxi.data()[(ie * kMaxNodes + k) * 2];
-            xf[k][1] = fxi.data()[(ie * kMaxNodes + k) * 2 + 1];
-          }
-          out[ie] = lagrange_coefficients(t, xf, cf);
+          double cf[kMaxNodes * kMaxNodes];
+          out[ie] = local_basis(t, fxi.data() + ie * kMaxNodes * 2, cf);
         }
         return owned(out, {ne});
       },

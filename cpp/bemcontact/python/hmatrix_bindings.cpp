@@ -39,6 +39,12 @@ void* capsule_pointer(nb::handle cap) {
   return p;
 }
 
+// f := the routine of a scipy.linalg.cython_lapack / cython_blas capsule
+template <class F>
+void set_routine(F*& f, nb::handle cap) {
+  f = reinterpret_cast<F*>(capsule_pointer(cap));
+}
+
 void bind_hmatrix(nb::module_& mod) {
   nb::class_<HParams>(mod, "HParams")
       .def(nb::init<>())
@@ -57,11 +63,10 @@ void bind_hmatrix(nb::module_& mod) {
           [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd,
              nb::handle dgesdd) {
             new (self) Lapack();
-            self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(capsule_pointer(dgeqrf));
-            self->dormqr = reinterpret_cast<decltype(self->dormqr)>(capsule_pointer(dormqr));
-            self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(capsule_pointer(dgesvd));
-            if (!dgesdd.is_none())
-              self->dgesdd = reinterpret_cast<decltype(self->dgesdd)>(capsule_pointer(dgesdd));
+            set_routine(self->dgeqrf, dgeqrf);
+            set_routine(self->dormqr, dormqr);
+            set_routine(self->dgesvd, dgesvd);
+            if (!dgesdd.is_none()) set_routine(self->dgesdd, dgesdd);
           },
           nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"), nb::arg("dgesdd").none() = nb::none(),
           "LAPACK routines from scipy.linalg.cython_lapack.__pyx_capi__ capsules.");
@@ -72,10 +77,10 @@ void bind_hmatrix(nb::module_& mod) {
           [](Blas* self, nb::handle dgemm, nb::handle dtrsm, nb::handle dgetrf,
              nb::handle dlaswp) {
             new (self) Blas();
-            self->dgemm = reinterpret_cast<decltype(self->dgemm)>(capsule_pointer(dgemm));
-            self->dtrsm = reinterpret_cast<decltype(self->dtrsm)>(capsule_pointer(dtrsm));
-            self->dgetrf = reinterpret_cast<decltype(self->dgetrf)>(capsule_pointer(dgetrf));
-            self->dlaswp = reinterpret_cast<decltype(self->dlaswp)>(capsule_pointer(dlaswp));
+            set_routine(self->dgemm, dgemm);
+            set_routine(self->dtrsm, dtrsm);
+            set_routine(self->dgetrf, dgetrf);
+            set_routine(self->dlaswp, dlaswp);
           },
           nb::arg("dgemm"), nb::arg("dtrsm"), nb::arg("dgetrf"), nb::arg("dlaswp"),
           "BLAS (cython_blas) and LAPACK (cython_lapack) routines for the H-LU.");
