@@ -51,24 +51,9 @@ int default_threads() {
 #endif
 }
 
-}  // namespace
-
-NB_MODULE(_core, mod) {
-  mod.doc() = "bemcontact compiled core: element bases, quadrature, BEM operators";
-
-  nb::class_<QuadratureParams>(mod, "QuadratureParams")
-      .def(nb::init<>())
-      .def_rw("tolerance", &QuadratureParams::tolerance)
-      .def_rw("min_order", &QuadratureParams::min_order)
-      .def_rw("max_order", &QuadratureParams::max_order)
-      .def_rw("singular_order", &QuadratureParams::singular_order)
-      .def_rw("max_angle", &QuadratureParams::max_angle)
-      .def_rw("max_depth", &QuadratureParams::max_depth);
-
-  bind_hmatrix(mod);
-
-  mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
-
+// The dense operators and single element integrals (bem/operators.hpp,
+// bem/integration.hpp).
+void bind_operators(nb::module_& mod) {
   mod.def(
       "assemble_influence",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
@@ -142,7 +127,10 @@ NB_MODULE(_core, mod) {
       nb::arg("element"), nb::arg("x"), nb::arg("local"), nb::arg("shear_modulus"),
       nb::arg("nu"), nb::arg("q"),
       "Influence (H_e, G_e), each 3 x 3n, of one element on the point x (1 x 3).");
+}
 
+// Surface geometry and quadrature points of the elements (bem/element.hpp).
+void bind_geometry(nb::module_& mod) {
   mod.def(
       "map_points",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_1 elements, CDouble2 xi) {
@@ -215,7 +203,10 @@ NB_MODULE(_core, mod) {
       nb::arg("order"),
       "Gauss points (E x Q x 3), normals, weights*Jacobian (E x Q) and functional basis "
       "values (E x Q x 9) with order x order points per element.");
+}
 
+// Functional (Lagrange) bases through given local nodes (bem/element.hpp).
+void bind_bases(nb::module_& mod) {
   mod.def(
       "eval_basis",
       [](CInt32_1 etype, CDouble3 nodes_xi, CDouble2 xi) {
@@ -253,4 +244,27 @@ NB_MODULE(_core, mod) {
       },
       nb::arg("etype"), nb::arg("fxi"),
       "Smallest relative pivot of each element's functional Vandermonde matrix (0: not unisolvent).");
+}
+
+}  // namespace
+
+NB_MODULE(_core, mod) {
+  mod.doc() = "bemcontact compiled core: element bases, quadrature, BEM operators";
+
+  nb::class_<QuadratureParams>(mod, "QuadratureParams")
+      .def(nb::init<>())
+      .def_rw("tolerance", &QuadratureParams::tolerance)
+      .def_rw("min_order", &QuadratureParams::min_order)
+      .def_rw("max_order", &QuadratureParams::max_order)
+      .def_rw("singular_order", &QuadratureParams::singular_order)
+      .def_rw("max_angle", &QuadratureParams::max_angle)
+      .def_rw("max_depth", &QuadratureParams::max_depth);
+
+  bind_hmatrix(mod);
+
+  mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
+
+  bind_operators(mod);
+  bind_geometry(mod);
+  bind_bases(mod);
 }

@@ -45,18 +45,10 @@ void set_routine(F*& f, nb::handle cap) {
   f = reinterpret_cast<F*>(capsule_pointer(cap));
 }
 
-void bind_hmatrix(nb::module_& mod) {
-  nb::class_<HParams>(mod, "HParams")
-      .def(nb::init<>())
-      .def_rw("eps", &HParams::eps)
-      .def_rw("eta", &HParams::eta)
-      .def_rw("leaf_size", &HParams::leaf_size)
-      .def_rw("max_rank", &HParams::max_rank)
-      .def_rw("checks", &HParams::checks)
-      .def_rw("global_", &HParams::global)
-      .def_rw("mixed", &HParams::mixed)
-      .def_rw("norm_samples", &HParams::norm_samples);
+namespace {
 
+// The LAPACK and BLAS tables (la/lapack.hpp) from SciPy's capsules.
+void bind_lapack(nb::module_& mod) {
   nb::class_<Lapack>(mod, "Lapack")
       .def(
           "__init__",
@@ -84,8 +76,11 @@ void bind_hmatrix(nb::module_& mod) {
           },
           nb::arg("dgemm"), nb::arg("dtrsm"), nb::arg("dgetrf"), nb::arg("dlaswp"),
           "BLAS (cython_blas) and LAPACK (cython_lapack) routines for the H-LU.");
+}
 
-  nb::class_<HMatrix>(mod, "HMatrix")
+// HMatrix: the build, its statistics and the product.
+void def_hmatrix_build(nb::class_<HMatrix>& cls) {
+  cls
       .def(
           "__init__",
           [](HMatrix* self, CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
@@ -133,7 +128,12 @@ void bind_hmatrix(nb::module_& mod) {
             h.apply(px, py, k, threads);
           },
           nb::arg("x"), nb::arg("y"), nb::arg("threads"),
-          "y = A x (3N x k each, row-major, original dof order).")
+          "y = A x (3N x k each, row-major, original dof order).");
+}
+
+// HMatrix: exact entries and G columns, the blocks and the permutation.
+void def_hmatrix_inspection(nb::class_<HMatrix>& cls) {
+  cls
       .def(
           "entries",
           [](const HMatrix& h, CInt64_1 rows, CInt64_1 cols) {
@@ -216,7 +216,9 @@ void bind_hmatrix(nb::module_& mod) {
             return out;
           },
           "The dense diagonal leaf blocks of A: [(nodes (s,), A (3s x 3s))].");
+}
 
+void bind_hlu(nb::module_& mod) {
   nb::class_<HLU>(mod, "HLU")
       .def(
           "__init__",
@@ -248,4 +250,27 @@ void bind_hmatrix(nb::module_& mod) {
       .def_prop_ro("stored_doubles", &HLU::stored_doubles)
       .def_prop_ro("factor_seconds", &HLU::factor_seconds)
       .def_prop_ro("max_rank", &HLU::max_rank);
+}
+
+}  // namespace
+
+void bind_hmatrix(nb::module_& mod) {
+  nb::class_<HParams>(mod, "HParams")
+      .def(nb::init<>())
+      .def_rw("eps", &HParams::eps)
+      .def_rw("eta", &HParams::eta)
+      .def_rw("leaf_size", &HParams::leaf_size)
+      .def_rw("max_rank", &HParams::max_rank)
+      .def_rw("checks", &HParams::checks)
+      .def_rw("global_", &HParams::global)
+      .def_rw("mixed", &HParams::mixed)
+      .def_rw("norm_samples", &HParams::norm_samples);
+
+  bind_lapack(mod);
+
+  nb::class_<HMatrix> cls(mod, "HMatrix");
+  def_hmatrix_build(cls);
+  def_hmatrix_inspection(cls);
+
+  bind_hlu(mod);
 }
