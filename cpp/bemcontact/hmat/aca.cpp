@@ -58,12 +58,12 @@ struct HMatrix::Aca {
 
   Aca(const HMatrix& h, HBlock& b, uint64_t seed);
   static int64_t rank_limit(int64_t m, int64_t n, int max_rank);
-  void get_row(int64_t i, std::vector<double>& r);
-  void get_col(int64_t j, std::vector<double>& u);
+  void get_row(int64_t i, std::vector<double>& out);
+  void get_col(int64_t j, std::vector<double>& out);
   template <class F>
   int64_t random_index(int64_t len, F&& usable);
-  int64_t pivot_column(const std::vector<double>& r) const;
-  int64_t largest_open_node(const std::vector<double>& u) const;
+  int64_t pivot_column(const std::vector<double>& row) const;
+  int64_t largest_open_node(const std::vector<double>& col) const;
   void update_norm(double uu, double vv);
   bool step(int64_t i);
   int64_t check_residuals();
@@ -97,8 +97,8 @@ int64_t HMatrix::Aca::rank_limit(int64_t m, int64_t n, int max_rank) {
   return std::min(maxk, (m * n) / (m + n) + 1);
 }
 
-// Row i of the residual M - sum_l u_l v_l^T.
-void HMatrix::Aca::get_row(int64_t i, std::vector<double>& r) {
+// Row i of the residual M - sum_l u_l v_l^T, into out.
+void HMatrix::Aca::get_row(int64_t i, std::vector<double>& out) {
   const int64_t p = i / 3;
   std::vector<double>& cached = row_cache[p];
   if (cached.empty()) {
@@ -106,17 +106,17 @@ void HMatrix::Aca::get_row(int64_t i, std::vector<double>& r) {
     h.node_rows(tau.begin + p, sig, elems, cached.data());
   }
   const double* src = cached.data() + (i % 3) * n;
-  r.assign(src, src + n);
-  for (int64_t c = nH; c < n; ++c) r[c] *= scale;
+  out.assign(src, src + n);
+  for (int64_t c = nH; c < n; ++c) out[c] *= scale;
   for (size_t l = 0; l < U.size(); ++l) {
     const double a = U[l][i];
     const double* v = V[l].data();
-    for (int64_t c = 0; c < n; ++c) r[c] -= a * v[c];
+    for (int64_t c = 0; c < n; ++c) out[c] -= a * v[c];
   }
 }
 
-// Column j of the residual.
-void HMatrix::Aca::get_col(int64_t j, std::vector<double>& u) {
+// Column j of the residual, into out.
+void HMatrix::Aca::get_col(int64_t j, std::vector<double>& out) {
   const int64_t jj = j % nH;
   const int64_t qn = jj / 3;
   std::vector<double>& colbuf = col_cache[qn];
@@ -127,12 +127,12 @@ void HMatrix::Aca::get_col(int64_t j, std::vector<double>& u) {
   const bool g = j >= nH;
   const int comp = static_cast<int>(jj % 3) + (g ? 3 : 0);
   const double f = g ? scale : 1.0;
-  u.resize(m);
-  for (int64_t t = 0; t < m; ++t) u[t] = colbuf[t * 6 + comp] * f;
+  out.resize(m);
+  for (int64_t t = 0; t < m; ++t) out[t] = colbuf[t * 6 + comp] * f;
   for (size_t l = 0; l < U.size(); ++l) {
     const double a = V[l][j];
     const double* w = U[l].data();
-    for (int64_t t = 0; t < m; ++t) u[t] -= a * w[t];
+    for (int64_t t = 0; t < m; ++t) out[t] -= a * w[t];
   }
 }
 
@@ -150,12 +150,12 @@ int64_t HMatrix::Aca::random_index(int64_t len, F&& usable) {
 
 // The pivot of a residual row: its largest entry in an unused column (-1 if
 // there is none above 1e-300).
-int64_t HMatrix::Aca::pivot_column(const std::vector<double>& r) const {
+int64_t HMatrix::Aca::pivot_column(const std::vector<double>& row) const {
   int64_t j = -1;
   double best = 0.0;
   for (int64_t c = 0; c < n; ++c)
-    if (!col_used[c] && std::fabs(r[c]) > best) {
-      best = std::fabs(r[c]);
+    if (!col_used[c] && std::fabs(row[c]) > best) {
+      best = std::fabs(row[c]);
       j = c;
     }
   return best <= 1e-300 ? -1 : j;
@@ -163,12 +163,12 @@ int64_t HMatrix::Aca::pivot_column(const std::vector<double>& r) const {
 
 // The next pivot node from a residual column: the node, not yet done, of its
 // largest entry (-1 if every node is done).
-int64_t HMatrix::Aca::largest_open_node(const std::vector<double>& u) const {
+int64_t HMatrix::Aca::largest_open_node(const std::vector<double>& col) const {
   int64_t next = -1;
   double bu = -1.0;
   for (int64_t t = 0; t < m; ++t)
-    if (!node_done[t / 3] && std::fabs(u[t]) > bu) {
-      bu = std::fabs(u[t]);
+    if (!node_done[t / 3] && std::fabs(col[t]) > bu) {
+      bu = std::fabs(col[t]);
       next = t / 3;
     }
   return next;
