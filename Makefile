@@ -4,7 +4,7 @@
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
-CPP_SRC := $(wildcard cpp/bemcontact/*.cpp cpp/bemcontact/*.hpp)
+CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp')
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
 RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs
 

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cstring>
 
-#include "bind_common.hpp"
-#include "element.hpp"
-#include "operators.hpp"
+#include "python/bind_common.hpp"
+#include "bem/element.hpp"
+#include "bem/integration.hpp"
+#include "bem/operators.hpp"
+#include "bem/quadrature.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -29,6 +31,18 @@ NpArray owned(double* data, std::initializer_list<size_t> shape) {
   return NpArray(data, shape.size(), shape.begin(), owner);
 }
 
+// Lagrange coefficients (cf, as lagrange_coefficients) of the basis of element
+// type t through the local nodes xi (9 x 2, the first nodes_per_element(t)
+// used); returns the smallest relative pivot.
+double local_basis(int t, const double* xi, double* cf) {
+  double xf[kMaxNodes][2];
+  for (int k = 0; k < nodes_per_element(t); ++k) {
+    xf[k][0] = xi[2 * k];
+    xf[k][1] = xi[2 * k + 1];
+  }
+  return lagrange_coefficients(t, xf, cf);
+}
+
 int default_threads() {
 #ifdef _OPENMP
   return omp_get_max_threads();
@@ -37,24 +51,9 @@ int default_threads() {
 #endif
 }
 
-}  // namespace
-
-NB_MODULE(_core, mod) {
-  mod.doc() = "bemcontact compiled core: element bases, quadrature, BEM operators";
-
-  nb::class_<QuadratureParams>(mod, "QuadratureParams")
-      .def(nb::init<>())
-      .def_rw("tolerance", &QuadratureParams::tolerance)
-      .def_rw("min_order", &QuadratureParams::min_order)
-      .def_rw("max_order", &QuadratureParams::max_order)
-      .def_rw("singular_order", &QuadratureParams::singular_order)
-      .def_rw("max_angle", &QuadratureParams::max_angle)
-      .def_rw("max_depth", &QuadratureParams::max_depth);
-
-  bind_hmatrix(mod);
-
-  mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
-
+// The dense operators and single element integrals (bem/operators.hpp,
+// bem/integration.hpp).
+void bind_operators(nb::module_& mod) {
   mod.def(
       "assemble_influence",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn, CDouble3 fxi,
@@ -128,7 +127,10 @@ NB_MODULE(_core, mod) {
       nb::arg("element"), nb::arg("x"), nb::arg("local"), nb::arg("shear_modulus"),
       nb::arg("nu"), nb::arg("q"),
       "Influence (H_e, G_e), each 3 x 3n, of one element on the point x (1 x 3).");
+}
 
+// Surface geometry and quadrature points of the elements (bem/element.hpp).
+void bind_geometry(nb::module_& mod) {
   mod.def(
       "map_points",
       [](CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_1 elements, CDouble2 xi) {
@@ -170,14 +172,12 @@ NB_MODULE(_core, mod) {
         for (size_t ie = 0; ie < ne; ++ie) {
           const int t = m.etype[ie];
           const int n = nodes_per_element(t);
-          double Xe[kMaxNodes][3], xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
+          double Xe[kMaxNodes][3], cf[kMaxNodes * kMaxNodes];
           for (int k = 0; k < n; ++k) {
             const int64_t g = m.conn[ie * kMaxNodes + k];
             for (int d = 0; d < 3; ++d) Xe[k][d] = m.nodes[3 * g + d];
-            xf[k][0] = m.fxi[(ie * kMaxNodes + k) * 2];
-            xf[k][1] = m.fxi[(ie * kMaxNodes + k) * 2 + 1];
           }
-          lagrange_coefficients(t, xf, cf);
+          local_basis(t, m.fxi + ie * kMaxNodes * 2, cf);
           Rule2D r;
           if (is_triangle(t)) {
             const double A[2] = {0, 0}, B[2] = {1, 0}, C[2] = {0, 1};
@@ -203,7 +203,10 @@ NB_MODULE(_core, mod) {
       nb::arg("order"),
       "Gauss points (E x Q x 3), normals, weights*Jacobian (E x Q) and functional basis "
       "values (E x Q x 9) with order x order points per element.");
+}
 
+// Functional (Lagrange) bases through given local nodes (bem/element.hpp).
+void bind_bases(nb::module_& mod) {
   mod.def(
       "eval_basis",
       [](CInt32_1 etype, CDouble3 nodes_xi, CDouble2 xi) {
@@ -214,12 +217,8 @@ NB_MODULE(_core, mod) {
         double* Ny = new double[np * kMaxNodes]();
         for (size_t p = 0; p < np; ++p) {
           const int t = etype.data()[p];
-          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
-          for (int k = 0; k < nodes_per_element(t); ++k) {
-            xf[k][0] = nodes_xi.data()[(p * kMaxNodes + k) * 2];
-            xf[k][1] = nodes_xi.data()[(p * kMaxNodes + k) * 2 + 1];
-          }
-          lagrange_coefficients(t, xf, cf);
+          double cf[kMaxNodes * kMaxNodes];
+          local_basis(t, nodes_xi.data() + p * kMaxNodes * 2, cf);
           eval_basis(t, cf, xi.data()[2 * p], xi.data()[2 * p + 1], N + kMaxNodes * p,
                      Nx + kMaxNodes * p, Ny + kMaxNodes * p);
         }
@@ -238,15 +237,34 @@ NB_MODULE(_core, mod) {
         double* out = new double[ne];
         for (size_t ie = 0; ie < ne; ++ie) {
           const int t = etype.data()[ie];
-          double xf[kMaxNodes][2], cf[kMaxNodes * kMaxNodes];
-          for (int k = 0; k < nodes_per_element(t); ++k) {
-            xf[k][0] = fxi.data()[(ie * kMaxNodes + k) * 2];
-            xf[k][1] = fxi.data()[(ie * kMaxNodes + k) * 2 + 1];
-          }
-          out[ie] = lagrange_coefficients(t, xf, cf);
+          double cf[kMaxNodes * kMaxNodes];
+          out[ie] = local_basis(t, fxi.data() + ie * kMaxNodes * 2, cf);
         }
         return owned(out, {ne});
       },
       nb::arg("etype"), nb::arg("fxi"),
       "Smallest relative pivot of each element's functional Vandermonde matrix (0: not unisolvent).");
+}
+
+}  // namespace
+
+NB_MODULE(_core, mod) {
+  mod.doc() = "bemcontact compiled core: element bases, quadrature, BEM operators";
+
+  nb::class_<QuadratureParams>(mod, "QuadratureParams")
+      .def(nb::init<>())
+      .def_rw("tolerance", &QuadratureParams::tolerance)
+      .def_rw("min_order", &QuadratureParams::min_order)
+      .def_rw("max_order", &QuadratureParams::max_order)
+      .def_rw("singular_order", &QuadratureParams::singular_order)
+      .def_rw("max_angle", &QuadratureParams::max_angle)
+      .def_rw("max_depth", &QuadratureParams::max_depth);
+
+  bind_hmatrix(mod);
+
+  mod.def("max_threads", &default_threads, "OpenMP threads available (1 without OpenMP).");
+
+  bind_operators(mod);
+  bind_geometry(mod);
+  bind_bases(mod);
 }

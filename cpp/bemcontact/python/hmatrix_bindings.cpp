@@ -5,9 +5,10 @@
 
 #include <cstring>
 
-#include "bind_common.hpp"
-#include "hlu.hpp"
-#include "hmatrix.hpp"
+#include "python/bind_common.hpp"
+#include "hmat/hlu.hpp"
+#include "hmat/hmatrix.hpp"
+#include "la/lapack.hpp"
 
 namespace nb = nanobind;
 using namespace bemcontact;
@@ -38,29 +39,26 @@ void* capsule_pointer(nb::handle cap) {
   return p;
 }
 
-void bind_hmatrix(nb::module_& mod) {
-  nb::class_<HParams>(mod, "HParams")
-      .def(nb::init<>())
-      .def_rw("eps", &HParams::eps)
-      .def_rw("eta", &HParams::eta)
-      .def_rw("leaf_size", &HParams::leaf_size)
-      .def_rw("max_rank", &HParams::max_rank)
-      .def_rw("checks", &HParams::checks)
-      .def_rw("global_", &HParams::global)
-      .def_rw("mixed", &HParams::mixed)
-      .def_rw("norm_samples", &HParams::norm_samples);
+// f := the routine of a scipy.linalg.cython_lapack / cython_blas capsule
+template <class F>
+void set_routine(F*& f, nb::handle cap) {
+  f = reinterpret_cast<F*>(capsule_pointer(cap));
+}
 
+namespace {
+
+// The LAPACK and BLAS tables (la/lapack.hpp) from SciPy's capsules.
+void bind_lapack(nb::module_& mod) {
   nb::class_<Lapack>(mod, "Lapack")
       .def(
           "__init__",
           [](Lapack* self, nb::handle dgeqrf, nb::handle dormqr, nb::handle dgesvd,
              nb::handle dgesdd) {
             new (self) Lapack();
-            self->dgeqrf = reinterpret_cast<decltype(self->dgeqrf)>(capsule_pointer(dgeqrf));
-            self->dormqr = reinterpret_cast<decltype(self->dormqr)>(capsule_pointer(dormqr));
-            self->dgesvd = reinterpret_cast<decltype(self->dgesvd)>(capsule_pointer(dgesvd));
-            if (!dgesdd.is_none())
-              self->dgesdd = reinterpret_cast<decltype(self->dgesdd)>(capsule_pointer(dgesdd));
+            set_routine(self->dgeqrf, dgeqrf);
+            set_routine(self->dormqr, dormqr);
+            set_routine(self->dgesvd, dgesvd);
+            if (!dgesdd.is_none()) set_routine(self->dgesdd, dgesdd);
           },
           nb::arg("dgeqrf"), nb::arg("dormqr"), nb::arg("dgesvd"), nb::arg("dgesdd").none() = nb::none(),
           "LAPACK routines from scipy.linalg.cython_lapack.__pyx_capi__ capsules.");
@@ -71,15 +69,18 @@ void bind_hmatrix(nb::module_& mod) {
           [](Blas* self, nb::handle dgemm, nb::handle dtrsm, nb::handle dgetrf,
              nb::handle dlaswp) {
             new (self) Blas();
-            self->dgemm = reinterpret_cast<decltype(self->dgemm)>(capsule_pointer(dgemm));
-            self->dtrsm = reinterpret_cast<decltype(self->dtrsm)>(capsule_pointer(dtrsm));
-            self->dgetrf = reinterpret_cast<decltype(self->dgetrf)>(capsule_pointer(dgetrf));
-            self->dlaswp = reinterpret_cast<decltype(self->dlaswp)>(capsule_pointer(dlaswp));
+            set_routine(self->dgemm, dgemm);
+            set_routine(self->dtrsm, dtrsm);
+            set_routine(self->dgetrf, dgetrf);
+            set_routine(self->dlaswp, dlaswp);
           },
           nb::arg("dgemm"), nb::arg("dtrsm"), nb::arg("dgetrf"), nb::arg("dlaswp"),
           "BLAS (cython_blas) and LAPACK (cython_lapack) routines for the H-LU.");
+}
 
-  nb::class_<HMatrix>(mod, "HMatrix")
+// HMatrix: the build, its statistics and the product.
+void def_hmatrix_build(nb::class_<HMatrix>& cls) {
+  cls
       .def(
           "__init__",
           [](HMatrix* self, CDouble2 nodes, CInt32_1 etype, CInt64_2 conn, CInt64_2 fconn,
@@ -127,7 +128,12 @@ void bind_hmatrix(nb::module_& mod) {
             h.apply(px, py, k, threads);
           },
           nb::arg("x"), nb::arg("y"), nb::arg("threads"),
-          "y = A x (3N x k each, row-major, original dof order).")
+          "y = A x (3N x k each, row-major, original dof order).");
+}
+
+// HMatrix: exact entries and G columns, the blocks and the permutation.
+void def_hmatrix_inspection(nb::class_<HMatrix>& cls) {
+  cls
       .def(
           "entries",
           [](const HMatrix& h, CInt64_1 rows, CInt64_1 cols) {
@@ -210,7 +216,9 @@ void bind_hmatrix(nb::module_& mod) {
             return out;
           },
           "The dense diagonal leaf blocks of A: [(nodes (s,), A (3s x 3s))].");
+}
 
+void bind_hlu(nb::module_& mod) {
   nb::class_<HLU>(mod, "HLU")
       .def(
           "__init__",
@@ -242,4 +250,27 @@ void bind_hmatrix(nb::module_& mod) {
       .def_prop_ro("stored_doubles", &HLU::stored_doubles)
       .def_prop_ro("factor_seconds", &HLU::factor_seconds)
       .def_prop_ro("max_rank", &HLU::max_rank);
+}
+
+}  // namespace
+
+void bind_hmatrix(nb::module_& mod) {
+  nb::class_<HParams>(mod, "HParams")
+      .def(nb::init<>())
+      .def_rw("eps", &HParams::eps)
+      .def_rw("eta", &HParams::eta)
+      .def_rw("leaf_size", &HParams::leaf_size)
+      .def_rw("max_rank", &HParams::max_rank)
+      .def_rw("checks", &HParams::checks)
+      .def_rw("global_", &HParams::global)
+      .def_rw("mixed", &HParams::mixed)
+      .def_rw("norm_samples", &HParams::norm_samples);
+
+  bind_lapack(mod);
+
+  nb::class_<HMatrix> cls(mod, "HMatrix");
+  def_hmatrix_build(cls);
+  def_hmatrix_inspection(cls);
+
+  bind_hlu(mod);
 }

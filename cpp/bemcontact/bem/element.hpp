@@ -29,6 +29,18 @@ inline int nodes_per_element(int t) {
 inline bool is_triangle(int t) { return t == TRI3 || t == TRI6; }
 inline int n_corners(int t) { return is_triangle(t) ? 3 : 4; }
 
+// The entry of a per-type table (tri3, tri6, quad4, quad8, quad9) for type t.
+template <class T>
+inline T by_type(int t, T tri3, T tri6, T quad4, T quad8, T quad9) {
+  switch (t) {
+    case TRI3: return tri3;
+    case TRI6: return tri6;
+    case QUAD4: return quad4;
+    case QUAD8: return quad8;
+    default: return quad9;
+  }
+}
+
 // Monomial exponents (p, q) of xi^p eta^q spanning each element's space.
 inline const int (*monomial_exponents(int t))[2] {
   static const int tri3[3][2] = {{0, 0}, {1, 0}, {0, 1}};
@@ -38,13 +50,7 @@ inline const int (*monomial_exponents(int t))[2] {
                                   {1, 1}, {0, 2}, {2, 1}, {1, 2}};
   static const int quad9[9][2] = {{0, 0}, {1, 0}, {0, 1}, {2, 0}, {1, 1},
                                   {0, 2}, {2, 1}, {1, 2}, {2, 2}};
-  switch (t) {
-    case TRI3: return tri3;
-    case TRI6: return tri6;
-    case QUAD4: return quad4;
-    case QUAD8: return quad8;
-    default: return quad9;
-  }
+  return by_type(t, tri3, tri6, quad4, quad8, quad9);
 }
 
 // Reference node positions in local coordinates.
@@ -56,13 +62,7 @@ inline const double (*reference_nodes(int t))[2] {
                                      {0, -1},  {1, 0},  {0, 1}, {-1, 0}};
   static const double quad9[9][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {0, -1},
                                      {1, 0},   {0, 1},  {-1, 0}, {0, 0}};
-  switch (t) {
-    case TRI3: return tri3;
-    case TRI6: return tri6;
-    case QUAD4: return quad4;
-    case QUAD8: return quad8;
-    default: return quad9;
-  }
+  return by_type(t, tri3, tri6, quad4, quad8, quad9);
 }
 
 // Monomials and their derivatives at (xi, eta).

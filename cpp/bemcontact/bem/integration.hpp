@@ -1,11 +1,16 @@
-// Collocation BEM influence matrices with the Kelvin fundamental solution.
+// Element integration for collocation BEM with the Kelvin fundamental
+// solution: the influence (blocks of H and G) of one element on one
+// collocation point, by a regular Gauss rule of an order chosen from the
+// distance, by adaptive subdivision (nearly singular) or by a polar rule
+// around the point (singular).  The elements of a mesh are prepared once.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
-#include "element.hpp"
-#include "quadrature.hpp"
+#include "bem/element.hpp"
+#include "bem/kernels.hpp"
+#include "bem/quadrature.hpp"
 
 namespace bemcontact {
 
@@ -34,15 +39,6 @@ struct QuadratureParams {
   int max_depth = 14;        // subdivision depth limit (nearly singular)
 };
 
-struct Kelvin {
-  double c1, c2, a, b;  // U = c1 [a delta + r_i r_j] / r ; T uses b = 1 - 2 nu
-  Kelvin(double shear_modulus, double nu)
-      : c1(1.0 / (16.0 * M_PI * shear_modulus * (1.0 - nu))),
-        c2(1.0 / (8.0 * M_PI * (1.0 - nu))),
-        a(3.0 - 4.0 * nu),
-        b(1.0 - 2.0 * nu) {}
-};
-
 // One element, prepared for integration.
 struct Element {
   int type = 0, n = 0;
@@ -66,23 +62,5 @@ std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, i
 void element_influence(const Element& e, const double* x, int local, const Kelvin& K,
                        const QuadratureParams& q, bool want_h, bool want_g, double* He,
                        double* Ge);
-
-// Full H and G (3N x 3N, row-major), N = number of functional nodes; the
-// diagonal blocks of H (free term + principal value) come from rigid-body
-// translation.  Points: (N, 3) collocation points.
-void assemble_influence(const MeshView& m, const double* points, int64_t n_points,
-                        double shear_modulus, double nu, const QuadratureParams& q,
-                        int threads, double* H, double* G);
-
-// The mixed system A x = b in place, without H and G: A (column-major,
-// leading dimension lda >= 3N, so a bordered matrix can hold it) has the
-// columns of H where the traction is given and of -G where the displacement
-// is given (known_u, 3N); B (G resp. -H) is applied to W (3N x s, row-major)
-// into BW (3N x s) and its columns bcols (nb) are copied into BC (3N x nb,
-// row-major).
-void assemble_system(const MeshView& m, const double* points, int64_t n_points,
-                     double shear_modulus, double nu, const QuadratureParams& q,
-                     const uint8_t* known_u, const double* W, int64_t s, const int64_t* bcols,
-                     int64_t nb, int threads, double* A, int64_t lda, double* BW, double* BC);
 
 }  // namespace bemcontact

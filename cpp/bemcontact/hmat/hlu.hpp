@@ -18,29 +18,10 @@
 #include <memory>
 #include <vector>
 
-#include "hmatrix.hpp"
+#include "hmat/hmatrix.hpp"
+#include "la/lapack.hpp"
 
 namespace bemcontact {
-
-// BLAS and LAPACK routines (Fortran convention, 32-bit integers) from
-// scipy.linalg.cython_blas / cython_lapack capsules.
-struct Blas {
-  void (*dgemm)(char*, char*, int*, int*, int*, double*, double*, int*, double*, int*, double*,
-                double*, int*) = nullptr;
-  void (*dtrsm)(char*, char*, char*, char*, int*, int*, double*, double*, int*, double*,
-                int*) = nullptr;
-  void (*dgetrf)(int*, int*, double*, int*, int*, int*) = nullptr;
-  void (*dlaswp)(int*, double*, int*, int*, int*, int*, int*) = nullptr;
-  bool ok() const { return dgemm && dtrsm && dgetrf && dlaswp; }
-};
-
-// Truncate the low-rank product U V^T (U: m x k, V: n x k, column-major) to
-// the smallest rank whose discarded singular values have a 2-norm <= eps
-// times the product's Frobenius norm, or <= abs_tol when that is larger (QR
-// of both factors, SVD of the k x k core).  k is updated; rank 0 products
-// are left alone.
-void truncate_lowrank(std::vector<double>& U, std::vector<double>& V, int64_t m, int64_t n,
-                      int& k, double eps, const Lapack& lapack, double abs_tol = 0.0);
 
 struct HNode;
 

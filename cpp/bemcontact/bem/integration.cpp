@@ -1,4 +1,5 @@
-#include "operators.hpp"
+// Element integration (see integration.hpp).
+#include "bem/integration.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -47,57 +48,12 @@ inline int regular_order(double R, const QuadratureParams& q) {
 // stored as structure of arrays with stride `np` (its number of points): x, y,
 // z, nx, ny, nz, w*J, then the n basis values point by point (np x n).  The
 // kernels are reduced per point to kTerms scalars (Kelvin U: 1 isotropic + 6
-// symmetric dyadic terms; T: 1 isotropic + 6 symmetric + 3 antisymmetric),
-// accumulated against the basis values (a (kTerms x np) by (np x n) product,
-// n a compile-time constant for the usual element types), then expanded into
-// the 3 x 3n blocks.  Points are taken in chunks of kChunk.
-constexpr int kTerms = 17;
-constexpr size_t kChunk = 64;
+// symmetric dyadic terms; T: 1 isotropic + 6 symmetric + 3 antisymmetric;
+// point_terms, bem/kernels.hpp), accumulated against the basis values (a
+// (kTerms x np) by (np x n) product, n a compile-time constant for the usual
+// element types), then expanded into the 3 x 3n blocks (expand_terms).
+// Points are taken in chunks of kChunk.
 constexpr int kSoaFields = 7;
-
-// q[m * kChunk + i] for points p0 .. p0 + cnt - 1
-inline void point_terms(const double* c, size_t np, size_t p0, size_t cnt, const double* x,
-                        const Kelvin& K, bool want_h, bool want_g, double* q) {
-  const double* px = c + p0;
-  const double* py = c + np + p0;
-  const double* pz = c + 2 * np + p0;
-  const double* nx = c + 3 * np + p0;
-  const double* ny = c + 4 * np + p0;
-  const double* nz = c + 5 * np + p0;
-  const double* wj = c + 6 * np + p0;
-  const double x0 = x[0], x1 = x[1], x2 = x[2];
-  const double c1 = want_g ? K.c1 : 0.0, c2 = want_h ? K.c2 : 0.0, kb = K.b;
-#pragma omp simd
-  for (size_t p = 0; p < cnt; ++p) {
-    const double r0 = px[p] - x0, r1 = py[p] - x1, r2 = pz[p] - x2;
-    const double ir = 1.0 / std::sqrt(r0 * r0 + r1 * r1 + r2 * r2);
-    const double d0 = r0 * ir, d1 = r1 * ir, d2 = r2 * ir;
-    // G: U_ij = sg (a delta_ij + d_i d_j)
-    const double sg = c1 * ir * wj[p];
-    q[0 * kChunk + p] = sg;
-    q[1 * kChunk + p] = sg * d0 * d0;
-    q[2 * kChunk + p] = sg * d1 * d1;
-    q[3 * kChunk + p] = sg * d2 * d2;
-    q[4 * kChunk + p] = sg * d0 * d1;
-    q[5 * kChunk + p] = sg * d0 * d2;
-    q[6 * kChunk + p] = sg * d1 * d2;
-    // H: T_ij = sh (drdn (b delta_ij + 3 d_i d_j) - b (d_i n_j - d_j n_i))
-    const double sh = -c2 * ir * ir * wj[p];
-    const double drdn = d0 * nx[p] + d1 * ny[p] + d2 * nz[p];
-    const double s3 = 3.0 * sh * drdn;
-    const double sb = sh * kb;
-    q[7 * kChunk + p] = sb * drdn;
-    q[8 * kChunk + p] = s3 * d0 * d0;
-    q[9 * kChunk + p] = s3 * d1 * d1;
-    q[10 * kChunk + p] = s3 * d2 * d2;
-    q[11 * kChunk + p] = s3 * d0 * d1;
-    q[12 * kChunk + p] = s3 * d0 * d2;
-    q[13 * kChunk + p] = s3 * d1 * d2;
-    q[14 * kChunk + p] = -sb * (d0 * ny[p] - d1 * nx[p]);  // antisymmetric (0,1)
-    q[15 * kChunk + p] = -sb * (d0 * nz[p] - d2 * nx[p]);  // (0,2)
-    q[16 * kChunk + p] = -sb * (d1 * nz[p] - d2 * ny[p]);  // (1,2)
-  }
-}
 
 // acc (kTerms x n) += q (kTerms x cnt) * phi (cnt x n, row p contiguous):
 // point by point, a broadcast of q[m][p] times the n basis values.
@@ -110,35 +66,6 @@ inline void contract_terms(const double* q, const double* phi, size_t cnt, int n
       const double qm = q[m * kChunk + p];
 #pragma omp simd
       for (int k = 0; k < nn; ++k) acc[m * nn + k] += qm * ph[k];
-    }
-  }
-}
-
-// He/Ge += the blocks of acc; the H column of functional node `skip` (the
-// collocation point's own node, singular rule) is left alone.
-inline void expand_terms(const double* acc, int n, int skip, const Kelvin& K, bool want_h,
-                         bool want_g, double* He, double* Ge) {
-  const int ld = 3 * n;
-  // symmetric index pairs (i, j) -> term offset 0..5
-  static const int sym[3][3] = {{0, 3, 4}, {3, 1, 5}, {4, 5, 2}};
-  for (int k = 0; k < n; ++k) {
-    const double* a = acc;
-    if (want_g) {
-      const double iso = K.a * a[0 * n + k];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          Ge[i * ld + 3 * k + j] += (i == j ? iso : 0.0) + a[(1 + sym[i][j]) * n + k];
-    }
-    if (want_h && k != skip) {
-      const double iso = a[7 * n + k];
-      const double an[3] = {a[14 * n + k], a[15 * n + k], a[16 * n + k]};
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          double v = (i == j ? iso : 0.0) + a[(8 + sym[i][j]) * n + k];
-          if (i < j) v += an[i + j - 1];
-          else if (i > j) v -= an[i + j - 1];
-          He[i * ld + 3 * k + j] += v;
-        }
     }
   }
 }
@@ -490,104 +417,6 @@ void element_influence(const Element& e, const double* x, int local, const Kelvi
     root.p[1][1] = 1;
   }
   integrate_adaptive(e, root, x, 0, K, q, want_h, want_g, He, Ge, rule);
-}
-
-// The three rows of H and G (each 3 x ncol, row-major) of collocation point
-// i at x, over all elements, with the diagonal block of H (free term +
-// principal value) from rigid-body translation.
-static void influence_rows(const std::vector<Element>& els, int64_t i, const double* x,
-                           const Kelvin& K, const QuadratureParams& q, int64_t ncol,
-                           double* Hrow, double* Grow) {
-  double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
-  std::fill(Hrow, Hrow + 3 * ncol, 0.0);
-  std::fill(Grow, Grow + 3 * ncol, 0.0);
-  for (const Element& e : els) {
-    int local = -1;
-    for (int k = 0; k < e.n; ++k)
-      if (e.f[k] == i) local = k;
-    const int ld = 3 * e.n;
-    std::fill(He, He + 3 * ld, 0.0);
-    std::fill(Ge, Ge + 3 * ld, 0.0);
-    element_influence(e, x, local, K, q, true, true, He, Ge);
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < e.n; ++k) {
-        const int64_t col = 3 * e.f[k];
-        for (int j = 0; j < 3; ++j) {
-          Hrow[r * ncol + col + j] += He[r * ld + 3 * k + j];
-          Grow[r * ncol + col + j] += Ge[r * ld + 3 * k + j];
-        }
-      }
-  }
-  for (int r = 0; r < 3; ++r)
-    for (int j = 0; j < 3; ++j) {
-      double acc = 0.0;
-      for (int64_t c = j; c < ncol; c += 3) acc += Hrow[r * ncol + c];
-      Hrow[r * ncol + 3 * i + j] = -acc;
-    }
-}
-
-void assemble_influence(const MeshView& m, const double* points, int64_t n_points,
-                        double shear_modulus, double nu, const QuadratureParams& q,
-                        int threads, double* H, double* G) {
-  const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
-  const Kelvin K(shear_modulus, nu);
-  const int64_t ncol = 3 * n_points;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-  for (int64_t i = 0; i < n_points; ++i)
-    influence_rows(els, i, points + 3 * i, K, q, ncol, H + 3 * i * ncol, G + 3 * i * ncol);
-}
-
-void assemble_system(const MeshView& m, const double* points, int64_t n_points,
-                     double shear_modulus, double nu, const QuadratureParams& q,
-                     const uint8_t* known_u, const double* W, int64_t s, const int64_t* bcols,
-                     int64_t nb, int threads, double* A, int64_t lda, double* BW, double* BC) {
-  const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
-  const Kelvin K(shear_modulus, nu);
-  const int64_t ncol = 3 * n_points;
-  // Rows in chunks of kRowChunk points, so that the column-major A is written
-  // in runs of 3 kRowChunk consecutive entries per column (not one entry per
-  // cache line).
-  constexpr int64_t kRowChunk = 16;
-  const int64_t nchunks = (n_points + kRowChunk - 1) / kRowChunk;
-#pragma omp parallel num_threads(threads)
-  {
-    std::vector<double> Hrow(3 * kRowChunk * ncol), Grow(3 * kRowChunk * ncol);
-#pragma omp for schedule(dynamic, 1)
-    for (int64_t ch = 0; ch < nchunks; ++ch) {
-      const int64_t i0 = ch * kRowChunk, i1 = std::min(n_points, i0 + kRowChunk);
-      const int64_t nr = 3 * (i1 - i0), row0 = 3 * i0;
-      for (int64_t i = i0; i < i1; ++i)
-        influence_rows(els, i, points + 3 * i, K, q, ncol, Hrow.data() + 3 * (i - i0) * ncol,
-                       Grow.data() + 3 * (i - i0) * ncol);
-      // A column-major (leading dimension lda): A[row, c]
-      for (int64_t c = 0; c < ncol; ++c) {
-        double* out = A + lda * c + row0;
-        const double* src = known_u[c] ? Grow.data() : Hrow.data();
-        const double sign = known_u[c] ? -1.0 : 1.0;
-        for (int64_t r = 0; r < nr; ++r) out[r] = sign * src[r * ncol + c];
-      }
-      for (int64_t r = 0; r < nr; ++r) {
-        const double* h = Hrow.data() + r * ncol;
-        const double* g = Grow.data() + r * ncol;
-        const int64_t row = row0 + r;
-        // B = G on traction-given columns, -H on displacement-given ones
-        if (s > 0) {
-          double* y = BW + row * s;
-          std::fill(y, y + s, 0.0);
-          for (int64_t c = 0; c < ncol; ++c) {
-            const double b = known_u[c] ? -h[c] : g[c];
-            if (b == 0.0) continue;
-            const double* w = W + c * s;
-            for (int64_t t = 0; t < s; ++t) y[t] += b * w[t];
-          }
-        }
-        for (int64_t t = 0; t < nb; ++t) {
-          const int64_t c = bcols[t];
-          BC[row * nb + t] = known_u[c] ? -h[c] : g[c];
-        }
-      }
-    }
-  }
 }
 
 }  // namespace bemcontact

@@ -5,7 +5,7 @@
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 
-#include "operators.hpp"
+#include "bem/integration.hpp"
 
 namespace bemcontact::bind {
 

@@ -8,13 +8,19 @@
 // -H on displacement-given ones; b = B * boundary values) is applied to a
 // given block of vectors W during the build and never stored.  Low-rank
 // blocks of A are recompressed (QR + SVD, LAPACK from SciPy) to A's own rank.
+//
+// Sources: the build in hmatrix.cpp, the cluster tree in cluster.{hpp,cpp},
+// node rows, node columns and entries from the element integrals in
+// entries.cpp, the low-rank blocks in aca.cpp, the products in apply.cpp.
 #pragma once
 
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
 
-#include "operators.hpp"
+#include "bem/integration.hpp"
+#include "hmat/cluster.hpp"
+#include "la/lapack.hpp"
 
 namespace bemcontact {
 
@@ -37,31 +43,9 @@ struct HParams {
   int norm_samples = 64;  // nodes whose rows estimate the norms (global)
 };
 
-// LAPACK routines (Fortran calling convention, 32-bit integers), taken from
-// scipy.linalg.cython_lapack at run time so that the build needs no LAPACK.
-struct Lapack {
-  void (*dgeqrf)(int*, int*, double*, int*, double*, double*, int*, int*) = nullptr;
-  void (*dormqr)(char*, char*, int*, int*, int*, double*, int*, double*, double*, int*,
-                 double*, int*, int*) = nullptr;
-  void (*dgesvd)(char*, char*, int*, int*, double*, int*, double*, double*, int*, double*,
-                 int*, double*, int*, int*) = nullptr;
-  // optional (divide and conquer, faster than dgesvd for the small cores)
-  void (*dgesdd)(char*, int*, int*, double*, int*, double*, double*, int*, double*, int*,
-                 double*, int*, int*, int*) = nullptr;
-  bool ok() const { return dgeqrf && dormqr && dgesvd; }
-};
-
-struct HCluster {
-  int64_t begin = 0, end = 0;  // range in the permuted node order
-  int child[2] = {-1, -1};
-  double lo[3], hi[3];  // bounding box of the nodes' element supports
-  bool leaf() const { return child[0] < 0; }
-  int64_t size() const { return end - begin; }
-};
-
 using half = _Float16;
 // (through float: half <-> float is one instruction with F16C; the hot
-// product converts whole columns to float first, hmatrix.cpp apply)
+// product converts whole columns to float first, apply.cpp)
 inline double to_double(half x) { return static_cast<double>(static_cast<float>(x)); }
 inline half to_half(double x) { return static_cast<half>(static_cast<float>(x)); }
 
@@ -74,7 +58,7 @@ struct HBlock {
   // last rank - kd - kf in half precision (Uh, Vh: each column divided by its
   // largest magnitude, kept in sh as u-scale, v-scale pairs, so that the
   // narrow half exponent range holds it).  A term goes to a lower precision
-  // when its rounding fits the block's error budget (hmatrix.cpp, fill_aca).
+  // when its rounding fits the block's error budget (aca.cpp, fill_aca).
   std::vector<double> A, U, V;
   std::vector<float> Uf, Vf;
   std::vector<half> Uh, Vh;
@@ -142,11 +126,22 @@ class HMatrix {
   int64_t col_integrals() const { return col_integrals_; }
 
  private:
-  int build_cluster(int64_t begin, int64_t end, const std::vector<double>& sup_lo,
-                    const std::vector<double>& sup_hi, int leaf_size);
+  // the build, in this order (hmatrix.cpp): functional node -> elements
+  // (n2e_ptr_, n2e_); the support box (lo, hi: N x 3) of every node; the
+  // cluster tree (cluster.hpp); points, known_u and W in the permuted order;
+  // the block partition; every block filled (in parallel), their B W rows and
+  // H row sums added up in bw and rs (permuted order); the rigid-body diagonal
+  // of H from rs into A or bw
+  void index_node_elements();
+  void support_boxes(const double* points, std::vector<double>& lo,
+                     std::vector<double>& hi) const;
+  void permute_inputs(const double* points, const uint8_t* known_u, const double* W);
   void build_blocks(int tau, int sigma, double eta);
-  // 3 rows (node p in permuted order) of [H | G] restricted to cluster sigma's
-  // columns: out is 3 x (6 |sigma|), H columns first.
+  void fill_blocks(int threads, std::vector<double>& bw, std::vector<double>& rs);
+  void add_rigid_diagonal(const std::vector<double>& rs, std::vector<double>& bw);
+  // element integrals (entries.cpp): 3 rows (node p in permuted order) of
+  // [H | G] restricted to cluster sigma's columns: out is 3 x (6 |sigma|), H
+  // columns first.
   void node_rows(int64_t p, const HCluster& sigma, const std::vector<int64_t>& elems,
                  double* out) const;
   // 3 columns (node q, permuted) of H and of G over cluster tau's rows: out
@@ -158,13 +153,14 @@ class HMatrix {
   // permuted order, thread-private)
   void fill_dense(HBlock& b, double* bw, double* rs) const;
   void fill_aca(HBlock& b, uint64_t seed, double* bw, double* rs) const;
+  struct Aca;  // one block's cross approximation (aca.cpp)
   // (truncation relative to the block norm; callers scale columns to one unit)
   void recompress(HBlock& b, int64_t m, int64_t n, double abs_tol = 0.0) const;
+  // the elements touching the nodes of c (entries.cpp)
   std::vector<int64_t> support_elements(const HCluster& c) const;
 
   int64_t n_ = 0;
-  const double* points_ = nullptr;  // original order, during the build only
-  std::vector<double> pts_;         // permuted points (N x 3)
+  std::vector<double> pts_;  // permuted points (N x 3)
   std::vector<Element> els_;
   Kelvin K_;
   QuadratureParams q_;
