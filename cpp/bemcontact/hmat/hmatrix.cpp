@@ -133,6 +133,9 @@ void HMatrix::fill_blocks(int threads, std::vector<double>& bw, std::vector<doub
   // sum the threads in a fixed order (results independent of the schedule up
   // to the order of two-term sums)
   for (int th = 1; th < nt; ++th) {
+    // OpenMP may give fewer threads than asked (thread limits, nesting): the
+    // accumulators of threads that never ran are empty
+    if (rs_t[th].empty()) continue;
     for (size_t i = 0; i < rs_t[0].size(); ++i) rs_t[0][i] += rs_t[th][i];
     for (size_t i = 0; i < bw_t[0].size(); ++i) bw_t[0][i] += bw_t[th][i];
   }
