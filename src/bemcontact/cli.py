@@ -20,7 +20,6 @@ the traceback instead.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import pathlib
 import sys
 from collections.abc import Sequence
@@ -29,7 +28,7 @@ import numpy as np
 
 from ._version import __version__
 from .errors import BemcontactError, ConvergenceError
-from .output.write import write_results, write_summary
+from .output.write import write_summary
 from .problemfile.reader import load_problem
 from .settings import MAX_THREADS
 
@@ -334,15 +333,10 @@ def _run(args: argparse.Namespace) -> int:
             _error(f"{out}: --out: exists and is not a directory")
             return EXIT_INPUT
         problem = load_problem(args.problem)
-        options = problem.options
-        if args.threads is not None:
-            options = dataclasses.replace(options, threads=args.threads)
         report, shown = _progress(args)
         with shown:
-            result = problem.contact_problem().solve(
-                options, steps=problem.steps or None, progress=report
-            )
-        files = write_results(result, out, problem.echo, problem.output)
+            result = problem.solve(threads=args.threads, progress=report)
+        files = problem.write(result, out)
     except ConvergenceError as exc:
         if args.debug:
             raise

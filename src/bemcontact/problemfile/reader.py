@@ -46,11 +46,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
-from ..contact import ContactPair, ContactProblem, LoadStep, SolverOptions
+from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, SolverOptions
 from ..errors import BemcontactError, ConfigError
 from ..linalg import HMatrixOptions, LinearSolverOptions
 from ..mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
-from ..output.write import OutputOptions, require_matplotlib
+from ..output.write import OutputOptions, require_matplotlib, write_results
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
 
@@ -96,6 +96,26 @@ class ProblemFile:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_contact", ContactProblem(*self.bodies, self.pair))
+
+    def solve(self, *, threads: int | None = None, progress=None,
+              raise_on_failure: bool = True) -> ContactResult:
+        """Solve the file's problem as ``bemcontact run`` does: with its
+        ``[solver]`` options (``threads`` overrides ``solver.threads``) and
+        its whole loading history (the ``[[step]]`` sections, or
+        ``solver.load_steps`` proportional increments without them).
+        ``progress`` and ``raise_on_failure``: as
+        :meth:`~bemcontact.contact.ContactProblem.solve`."""
+        options = self.options
+        if threads is not None:
+            options = dataclasses.replace(options, threads=threads)
+        return self._contact.solve(options, steps=self.steps or None, progress=progress,
+                                   raise_on_failure=raise_on_failure)
+
+    def write(self, result: ContactResult, out_dir: str | os.PathLike) -> list[pathlib.Path]:
+        """Write ``result`` into ``out_dir`` as ``bemcontact run`` does: the
+        files the ``[output]`` table asks for, the problem file's content in
+        ``summary.json`` (all or nothing: :func:`~bemcontact.output.write_results`)."""
+        return write_results(result, out_dir, self.echo, self.output)
 
     def contact_problem(self) -> ContactProblem:
         """The :class:`~bemcontact.contact.ContactProblem` (the same object on

@@ -369,3 +369,31 @@ def test_overlap_check_can_be_deferred(tmp_path):
     p = load_problem(write(tmp_path, text), check_overlap=False)
     with pytest.raises(bc.ConfigError, match="do not overlap"):
         p.contact_problem().frame
+
+
+def test_solve_follows_the_file_s_load_steps_as_the_command_line_does(tmp_path):
+    """ProblemFile.solve() applies the [[step]] history (a later tangential
+    step here): the same forces as `bemcontact run`, to round-off, and a
+    tangential force that the first step alone would not give."""
+    import json
+
+    from bemcontact.cli import main
+
+    text = edit(BASE, 'frame = "mortar"\n', 'frame = "mortar"\n[[step]]\nlabel = "P"\n'
+                '[[step]]\nlabel = "shift"\nincrements = 2\n'
+                '[step.boundary_conditions.upper.zmax]\ndisplacement = [0.002, 0, -0.04]\n'
+                '[output]\nfigures = false\nvtu = false\n')
+    src = write(tmp_path, text)
+    p = load_problem(src)
+    res = p.solve()
+    assert [h.label for h in res.history] == ["P", "shift"]
+    first = p.contact_problem().solve(p.options)  # the first step only: no shift
+    assert abs(first.tangential_force) < 1e-9 * first.normal_force
+    assert res.tangential_force > 1e-3 * res.normal_force
+    files = p.write(res, tmp_path / "api")
+    assert {f.name for f in files} >= {"summary.json", "frame.csv"}
+    assert main(["run", str(src), "--out", str(tmp_path / "cli"), "--quiet"]) == 0
+    api = json.loads((tmp_path / "api" / "summary.json").read_text())
+    cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    for key in ("normal_force", "tangential_force"):
+        assert api[key] == pytest.approx(cli[key], rel=1e-12), key
