@@ -28,6 +28,7 @@ import numpy as np
 
 from ._version import __version__
 from .errors import BemcontactError, ConvergenceError
+from .output.rundir import RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
 from .settings import MAX_THREADS
@@ -67,8 +68,12 @@ def _parser() -> argparse.ArgumentParser:
         "and CSV files into DIR.",
     )
     run.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
-    run.add_argument("--out", metavar="DIR", type=pathlib.Path, required=True,
-                     help="output directory (created when the results are written)")
+    run.add_argument("--out", metavar="DIR", required=True,
+                     help="output directory: new, empty, or one bemcontact wrote (replaced as a "
+                     "whole when the new results are complete)")
+    run.add_argument("--force", action="store_true",
+                     help="also write into a directory that holds other files: the results "
+                     "replace files of the same names, nothing else is touched")
     run.add_argument("--threads", metavar="N", type=_threads,
                      help="threads for assembly, compression and LAPACK (overrides solver.threads; "
                      "default all cores, or OMP_NUM_THREADS)")
@@ -326,33 +331,34 @@ def _progress(args: argparse.Namespace):
 
 
 def _run(args: argparse.Namespace) -> int:
-    out: pathlib.Path = args.out
     problem = None
     try:
-        if out.exists() and not out.is_dir():
-            _error(f"{out}: --out: exists and is not a directory")
-            return EXIT_INPUT
+        # the output directory is checked first (reading only), then locked
+        # from the solve to the end of the write; bad input touches nothing
+        out = RunDirectory(args.out, force=args.force)
         problem = load_problem(args.problem)
-        report, shown = _progress(args)
-        with shown:
-            result = problem.solve(threads=args.threads, progress=report)
-        files = problem.write(result, out)
-    except ConvergenceError as exc:
-        if args.debug:
-            raise
-        return _not_converged(exc, out, problem.echo)
+        with out:
+            report, shown = _progress(args)
+            try:
+                with shown:
+                    result = problem.solve(threads=args.threads, progress=report)
+            except ConvergenceError as exc:
+                if args.debug:
+                    raise
+                return _not_converged(exc, out, problem.echo)
+            files = problem.write(result, out)
     except (BemcontactError, OSError) as exc:
         if args.debug:
             raise
         if isinstance(exc, OSError) and not isinstance(exc, BemcontactError):
             where = getattr(exc, "filename", None)
-            _error(f"cannot write the results to {out}: {exc.strerror or exc}"
+            _error(f"cannot write the results to {args.out}: {exc.strerror or exc}"
                    + (f" ({where})" if where else ""))
         else:
             _error(str(exc))
         return EXIT_INPUT
     if not args.quiet:
-        print(_report(problem, result, out, files))
+        print(_report(problem, result, args.out, files))
     return EXIT_OK
 
 
@@ -381,7 +387,7 @@ def _report(problem, result, out: pathlib.Path, files) -> str:
     return "\n".join(lines)
 
 
-def _not_converged(exc: ConvergenceError, out: pathlib.Path, echo) -> int:
+def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
     _error(str(exc))
     r = exc.result
     if r is not None:

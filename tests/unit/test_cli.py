@@ -121,7 +121,7 @@ def test_unrestrained_body_exit_3_with_diagnostic_summary(tmp_path, capsys):
     assert s["converged"] is False
     assert "singular" in s["error"]
     assert s["load_steps"][0]["residual_history"]
-    assert sorted(p.name for p in out.iterdir()) == ["summary.json"]
+    assert sorted(p.name for p in out.iterdir()) == [".bemcontact-run.json", "summary.json"]
 
 
 def test_version_and_no_command(capsys):
@@ -311,3 +311,33 @@ def test_check_names_the_bodies_on_compressed_operators(tmp_path, capsys):
     assert "compressed operators (H-matrix, H-LU) for lower, upper" in out
     assert main(["check", str(problem(tmp_path))]) == 0
     assert "compressed operators" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("where, message", [
+    ("", "--out: the output directory is an empty path"),
+    (".", "--out: is the current directory"),
+    ("/", "--out: is a filesystem root"),
+])
+def test_out_places_that_are_refused(tmp_path, monkeypatch, capsys, where, message):
+    """Issue 24: `--out ""` wrote into the current directory, replacing files
+    there; now refused in one line before anything is solved."""
+    src = problem(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "summary.json").write_text("mine")
+    assert main(["run", str(src), "--out", where]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+    assert (tmp_path / "summary.json").read_text() == "mine"
+
+
+def test_out_of_other_files_is_refused_unless_forced(tmp_path, capsys):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "summary.json").write_text("my summary")
+    src = problem(tmp_path)
+    assert main(["run", str(src), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "is not a bemcontact output directory (summary.json)" in err and "--force" in err
+    assert (out / "summary.json").read_text() == "my summary"
+    assert main(["run", str(src), "--out", str(out), "--quiet", "--force"]) == 0
+    assert json.loads((out / "summary.json").read_text())["converged"] is True

@@ -24,16 +24,15 @@ shrunk where its nodes are shifted, so a surface plot shows thin gaps along
 the edges of the body and every nodal value exactly as computed, with no
 interpolation or averaging.
 
-Writing is all or nothing: everything goes into a fresh temporary directory
-next to ``out_dir`` first and is moved into place only when every file is
-complete; on any error the temporary directory (and any parent directory this
-call created) is removed and ``out_dir`` is left as it was.  Files of an
-earlier run in ``out_dir`` that this run does not produce are left alone.
+Writing is all or nothing, and never touches a file bemcontact did not write:
+the rules of :mod:`bemcontact.output.rundir` (a whole run is written beside
+``out_dir`` and swapped in; a directory that is not a bemcontact output
+directory, the current directory, a root or an empty path are refused unless
+``force``; a lock keeps two runs out of one directory).
 """
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
 import math
@@ -41,8 +40,7 @@ import os
 import pathlib
 import re
 import secrets
-import shutil
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,6 +49,7 @@ import numpy as np
 from ..contact.results import ContactResult
 from ..errors import ConfigError
 from ..settings import Key, check_settings, setting
+from .rundir import RunDirectory
 from ..mesh.element import CORNERS
 
 #: Columns of ``<body>_interface.csv``.
@@ -148,17 +147,21 @@ def _versions() -> dict[str, str]:
 
 def write_results(
     result: ContactResult,
-    out_dir: str | os.PathLike,
+    out_dir: str | os.PathLike | RunDirectory,
     problem_echo: Mapping[str, Any] | None = None,
     options: OutputOptions | None = None,
+    *,
+    force: bool = False,
 ) -> list[pathlib.Path]:
     """Write the result files into ``out_dir`` (all or nothing, see the
-    module docstring) and return their paths (the per-step VTU files in
+    module docstring; a :class:`RunDirectory` already locked by the caller
+    may be passed) and return their paths (the per-step VTU files in
     ``steps/`` are not listed: the PVD files name them).
 
-    Raises :class:`ConfigError` if a body name cannot name a file or
-    ``options`` asks for figures without matplotlib, ``OSError`` if the files
-    cannot be written.
+    Raises :class:`ConfigError` if a body name cannot name a file,
+    ``options`` asks for figures without matplotlib or ``out_dir`` may not
+    be written (``force``: see :class:`RunDirectory`), ``OSError`` if the
+    files cannot be written.
     """
     if not isinstance(result, ContactResult):
         raise ConfigError(f"write_results: expected a ContactResult, got {type(result).__name__}")
@@ -189,7 +192,8 @@ def write_results(
             f"write_results: the body names {names} give clashing file names; rename the bodies"
         )
     history = list(result.history) or [result]
-    with _staging(out_dir) as tmp:
+    rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
+    with rundir.staging() as tmp:
         _write_json(tmp / "summary.json", summary(result, problem_echo))
         if opt.vtu:
             _write_state_vtus(tmp, result, "")
@@ -210,7 +214,7 @@ def write_results(
             from .plot import plot_frame_tractions
 
             plot_frame_tractions(result, tmp / "frame_tractions.png", cells=_frame_cells(result))
-    out = pathlib.Path(out_dir)
+    out = pathlib.Path(rundir.given)
     return [out / f for f in files]
 
 
@@ -248,17 +252,22 @@ def _write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
 
 def write_summary(
     result_or_dict: ContactResult | Mapping[str, Any],
-    out_dir: str | os.PathLike,
+    out_dir: str | os.PathLike | RunDirectory,
     problem_echo: Mapping[str, Any] | None = None,
     error: str | None = None,
+    *,
+    force: bool = False,
 ) -> pathlib.Path:
-    """Write only ``summary.json`` (atomically), e.g. the diagnostic summary
-    of a solve that did not converge (``ConvergenceError.result``, with the
-    error message as ``error``).  Returns its path."""
+    """Write a run of only ``summary.json`` (all or nothing, as
+    :func:`write_results`: it replaces an earlier run in ``out_dir`` as a
+    whole), e.g. the diagnostic summary of a solve that did not converge
+    (``ConvergenceError.result``, with the error message as ``error``).
+    Returns its path."""
     data = summary(result_or_dict, problem_echo, error)
-    with _staging(out_dir) as tmp:
+    rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
+    with rundir.staging() as tmp:
         _write_json(tmp / "summary.json", data)
-    return pathlib.Path(out_dir) / "summary.json"
+    return pathlib.Path(rundir.given) / "summary.json"
 
 
 def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> pathlib.Path:
@@ -276,53 +285,6 @@ def write_json(path: str | os.PathLike, data: Mapping[str, Any]) -> pathlib.Path
             tmp.unlink()
     return path
 
-
-
-# --------------------------------------------------------------------------- staging
-
-
-@contextlib.contextmanager
-def _staging(out_dir: str | os.PathLike) -> Iterator[pathlib.Path]:
-    """A fresh directory next to ``out_dir`` to write into; on success its
-    files are moved into ``out_dir`` (the directory itself is renamed when
-    ``out_dir`` does not exist yet), on failure everything is removed."""
-    out = pathlib.Path(out_dir).absolute()
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"{os.fspath(out_dir)}: exists and is not a directory")
-    created: list[pathlib.Path] = []
-    parent = out.parent
-    missing = []
-    while not parent.exists():
-        missing.append(parent)
-        parent = parent.parent
-    tmp: pathlib.Path | None = None
-    try:
-        for d in reversed(missing):
-            d.mkdir()
-            created.append(d)
-        tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(4)}"
-        tmp.mkdir()
-        yield tmp
-        if not out.exists():
-            tmp.rename(out)
-        else:
-            for f in sorted(tmp.iterdir()):
-                target = out / f.name
-                if f.is_dir() and target.is_dir():  # a whole subdirectory is replaced
-                    old = out / f".{f.name}.old-{secrets.token_hex(4)}"
-                    target.rename(old)
-                    f.rename(target)
-                    shutil.rmtree(old, ignore_errors=True)
-                else:
-                    os.replace(f, target)
-            tmp.rmdir()
-    except BaseException:
-        if tmp is not None:
-            shutil.rmtree(tmp, ignore_errors=True)
-        for d in reversed(created):
-            with contextlib.suppress(OSError):
-                d.rmdir()
-        raise
 
 
 # --------------------------------------------------------------------------- writers

@@ -111,11 +111,12 @@ class ProblemFile:
         return self._contact.solve(options, steps=self.steps or None, progress=progress,
                                    raise_on_failure=raise_on_failure)
 
-    def write(self, result: ContactResult, out_dir: str | os.PathLike) -> list[pathlib.Path]:
+    def write(self, result: ContactResult, out_dir, *, force: bool = False) -> list[pathlib.Path]:
         """Write ``result`` into ``out_dir`` as ``bemcontact run`` does: the
         files the ``[output]`` table asks for, the problem file's content in
-        ``summary.json`` (all or nothing: :func:`~bemcontact.output.write_results`)."""
-        return write_results(result, out_dir, self.echo, self.output)
+        ``summary.json`` (all or nothing, and never over files bemcontact did
+        not write unless ``force``: :func:`~bemcontact.output.write_results`)."""
+        return write_results(result, out_dir, self.echo, self.output, force=force)
 
     def contact_problem(self) -> ContactProblem:
         """The :class:`~bemcontact.contact.ContactProblem` (the same object on

@@ -54,7 +54,7 @@ def written(result, tmp_path_factory):
 def test_write_results_creates_the_listed_files(written):
     out, files = written
     assert [f.name for f in files] == FILES
-    assert sorted(p.name for p in out.iterdir()) == sorted([*FILES, "steps"])
+    assert sorted(p.name for p in out.iterdir()) == sorted([*FILES, "steps", ".bemcontact-run.json"])
     assert [p.name for p in out.parent.iterdir()] == ["run"]  # no temporary left
 
 
@@ -140,22 +140,28 @@ def test_failed_write_leaves_nothing(result, tmp_path, monkeypatch):
         io.write_results(result, out)
     assert list(tmp_path.iterdir()) == []  # not even the parents this call created
 
+    monkeypatch.undo()
     existing = tmp_path / "existing"
-    existing.mkdir()
-    (existing / "summary.json").write_text("old")
+    io.write_results(result, existing, options=io.OutputOptions(figures=False))
+    before = {p: p.read_bytes() for p in existing.rglob("*") if p.is_file()}
+    monkeypatch.setattr(io, "_write_frame_csv", boom)
     with pytest.raises(OSError):
         io.write_results(result, existing)
-    assert [p.name for p in tmp_path.iterdir()] == ["existing"]
-    assert [p.name for p in existing.iterdir()] == ["summary.json"]
-    assert (existing / "summary.json").read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["existing"]  # no lock, .tmp or .old left
+    assert {p: p.read_bytes() for p in existing.rglob("*") if p.is_file()} == before
 
 
-def test_rewrite_replaces_files_in_an_existing_directory(result, tmp_path):
+def test_a_directory_bemcontact_did_not_write_is_refused_unless_forced(result, tmp_path):
     out = tmp_path / "out"
     out.mkdir()
     (out / "summary.json").write_text("old")
     (out / "notes.txt").write_text("mine")
-    io.write_results(result, out)
+    with pytest.raises(bc.ConfigError, match="is not a bemcontact output directory "
+                       r"\(notes.txt and more\); name a new directory, or pass --force"):
+        io.write_results(result, out)
+    assert (out / "summary.json").read_text() == "old"
+    # forced: the results are moved in beside the user's file, nothing else touched
+    io.write_results(result, out, force=True)
     assert json.loads((out / "summary.json").read_text())["converged"] is True
     assert (out / "notes.txt").read_text() == "mine"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
@@ -164,7 +170,7 @@ def test_rewrite_replaces_files_in_an_existing_directory(result, tmp_path):
 def test_out_dir_that_is_a_file(result, tmp_path):
     f = tmp_path / "file"
     f.write_text("x")
-    with pytest.raises(NotADirectoryError):
+    with pytest.raises(bc.ConfigError, match="exists and is not a directory"):
         io.write_results(result, f)
     assert f.read_text() == "x" and [p.name for p in tmp_path.iterdir()] == ["file"]
 
@@ -267,14 +273,29 @@ def test_steps_of_a_history_are_written_per_step(tmp_path):
     assert not list(out.glob("*.csv")) and not list(out.glob("*.png"))
 
 
-def test_rewrite_replaces_the_steps_directory_whole(result, tmp_path):
+def test_rewrite_replaces_an_earlier_run_whole(result, tmp_path):
     out = tmp_path / "out"
     io.write_results(result, out, options=io.OutputOptions(figures=False))
-    (out / "steps" / "stale_999.vtu").write_text("old")
+    assert (out / "steps").is_dir()
+    io.write_results(result, out, options=io.OutputOptions(figures=False, vtu=False))
+    # the earlier run's files are gone (they were bemcontact's), the new run is whole
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [".bemcontact-run.json", "summary.json", "frame.csv",
+         *(f"{n}_interface.csv" for n in result.names)])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no .old/.tmp/.lock left
+
+
+def test_a_user_file_in_a_run_directory_is_never_deleted(result, tmp_path):
+    """The defect of issue 24: a rewrite replaced steps/ whole, deleting a
+    user's file in it.  Now the rewrite is refused, naming the file."""
+    out = tmp_path / "out"
     io.write_results(result, out, options=io.OutputOptions(figures=False))
-    assert not (out / "steps" / "stale_999.vtu").exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]  # no .old/.tmp left
-    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+    (out / "steps" / "my_notes.txt").write_text("mine")
+    with pytest.raises(bc.ConfigError, match=r"holds files bemcontact did not write "
+                       r"\(steps/my_notes.txt\)"):
+        io.write_results(result, out, options=io.OutputOptions(figures=False))
+    io.write_results(result, out, options=io.OutputOptions(figures=False), force=True)
+    assert (out / "steps" / "my_notes.txt").read_text() == "mine"
 
 
 def test_output_options_last_only_and_validation(result, tmp_path):

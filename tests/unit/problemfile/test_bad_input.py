@@ -169,6 +169,9 @@ def test_run_leaves_an_existing_out_dir_byte_identical(name, tmp_path, capsys):
     (out / "summary.json").write_text('{"converged": true}\n')
     (out / "old" / "frame.csv").write_bytes(bytes(range(256)))
     os.utime(out / "marker.txt", ns=(1_000_000_000, 1_000_000_000))
+    # an earlier run of bemcontact's: its manifest lists its files
+    (out / ".bemcontact-run.json").write_text(
+        '{"bemcontact": "0.1.0", "files": ["marker.txt", "old/frame.csv", "summary.json"]}\n')
     before = _tree(tmp_path)
     argv = ["run", str(BAD / name), "--out", str(out)]
     code, stdout, stderr = _call(argv, capsys)
