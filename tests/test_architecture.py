@@ -27,7 +27,7 @@ LAYERS = [
     {"bem"},
     {"linalg"},
     {"mesh"},
-    {"settings", "progress"},
+    {"settings", "progress", "inputs"},
     {"errors", "_native", "_version"},
 ]
 LEVEL = {unit: i for i, layer in enumerate(LAYERS) for unit in layer}

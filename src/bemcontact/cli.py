@@ -20,6 +20,8 @@ the traceback instead.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
 import pathlib
 import sys
 from collections.abc import Sequence
@@ -36,6 +38,7 @@ from .settings import MAX_THREADS
 EXIT_OK = 0
 EXIT_INPUT = 2
 EXIT_NOT_CONVERGED = 3
+EXIT_INTERRUPTED = 130
 
 
 def _positive_int(text: str) -> int:
@@ -144,7 +147,23 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit code."""
+    """Run the command line ``argv`` (default ``sys.argv[1:]``); returns the exit code.
+    Ctrl-C ends it with one line and exit code 130 (the output directory as it
+    was: :mod:`bemcontact.output.rundir`); a closed pipe (``| head``) ends it
+    quietly."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("bemcontact: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # the reader went away: nothing more to say, and nothing at exit either
+        with contextlib.suppress(OSError):
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return EXIT_OK
+
+
+def _main(argv: Sequence[str] | None) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     if args.command is None:
@@ -313,8 +332,6 @@ def _error(message: str) -> None:
 
 def _progress(args: argparse.Namespace):
     """The progress reporter and the context it runs in (see ``--progress``)."""
-    import contextlib
-
     mode = args.progress
     if mode == "auto":
         mode = "none" if args.quiet or not sys.stderr.isatty() else "live"

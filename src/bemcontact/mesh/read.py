@@ -8,7 +8,8 @@ import os
 
 import numpy as np
 
-from ..errors import MeshError
+from ..errors import ConfigError, MeshError
+from ..inputs import MAX_MESH_BYTES, check_regular_file
 from .surface import MESHIO_TYPES, SurfaceMesh
 
 
@@ -46,6 +47,10 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
         raise MeshError(f"{p}: no such file")
     if os.path.isdir(p):
         raise MeshError(f"{p}: is a directory, not a mesh file")
+    try:
+        check_regular_file(p, "mesh file", MAX_MESH_BYTES)
+    except ConfigError as exc:
+        raise MeshError(str(exc)) from None
     if p.lower().endswith(".msh"):
         seen: dict[str, int] = {}
         for dim, tag, name in _gmsh_physical_names(p):

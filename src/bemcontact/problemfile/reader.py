@@ -48,6 +48,7 @@ from typing import Any
 from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
 from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, SolverOptions
 from ..errors import BemcontactError, ConfigError
+from ..inputs import MAX_MESH_BYTES, MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg import HMatrixOptions, LinearSolverOptions
 from ..mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
 from ..output.write import OutputOptions, require_matplotlib, write_results
@@ -147,9 +148,15 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
     """
     p = pathlib.Path(path)
     src = os.fspath(path)
+    check_regular_file(p, "problem file", MAX_PROBLEM_BYTES)
     try:
         with open(p, "rb") as f:
-            content = tomllib.load(f)
+            data = f.read(MAX_PROBLEM_BYTES + 1)
+        if data.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte-order mark, as some editors write
+            data = data[3:]
+        content = tomllib.loads(data.decode("utf-8"))
+    except RecursionError:
+        raise ConfigError(f"{src}: tables or arrays nested too deeply to be a problem file") from None
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{src}: not a valid TOML file: {one_line(str(exc))}") from None
     except UnicodeDecodeError as exc:
@@ -163,7 +170,10 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
         raise ConfigError(
             f"{src}: cannot read the problem file: {exc.strerror or exc}"
         ) from None
-    return _Reader(src, p.parent).problem(p, content, check_overlap)
+    try:
+        return _Reader(src, p.parent).problem(p, content, check_overlap)
+    except RecursionError:
+        raise ConfigError(f"{src}: tables or arrays nested too deeply to be a problem file") from None
 
 
 class _Reader(Checker):
@@ -328,9 +338,13 @@ class _Reader(Checker):
         full = self.base / name
         if full.is_dir():
             self.fail(fwhere, f"is a directory ({full}), not a mesh file", name)
-        if not full.is_file():
+        if not full.exists():
             self.fail(fwhere, f"no such mesh file ({full})", name,
                       "mesh files are relative to the problem file's directory")
+        try:
+            check_regular_file(full, "mesh file", MAX_MESH_BYTES)
+        except ConfigError as exc:
+            self.fail(fwhere, one_line(str(exc)).removeprefix(f"{full}: "), name)
         try:
             return read_mesh(full, etype)
         except BemcontactError as exc:
