@@ -51,7 +51,8 @@ class RunDirectory:
         text = os.fspath(path)
         if not text.strip():
             raise ConfigError("--out: the output directory is an empty path; name a directory")
-        self.path = pathlib.Path(text).absolute()
+        # lexically normalized: "a/new/.." is "a", and creates no "a/new"
+        self.path = pathlib.Path(os.path.normpath(pathlib.Path(text).absolute()))
         self.force = bool(force)
         self.given = text
         self._locked = False

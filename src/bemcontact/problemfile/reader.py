@@ -57,6 +57,8 @@ from .checks import FREE, Checker, a_type, one_line, suggest
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
 NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
+#: Longest body name (it names output files; file systems allow 255 bytes).
+MAX_NAME_LENGTH = 64
 #: Body names that would collide with other output files.
 RESERVED_NAMES = ("frame", "summary")
 
@@ -199,6 +201,10 @@ class _Reader(Checker):
         if names[0] == names[1]:
             self.fail("body[1].name", "duplicate body name (body[0] has it too)", names[1],
                       "give each body its own name")
+        for i in range(2):
+            if names[i] == f"{names[1 - i]}_interface":
+                self.fail(f"body[{i}].name", f"clashes with the output files of body "
+                          f"{names[1 - i]!r} ({names[i]}.vtu)", names[i], "choose another name")
         meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
         materials = [
             self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
@@ -310,6 +316,9 @@ class _Reader(Checker):
         if name in RESERVED_NAMES:
             self.fail(f"{where}.name", f"is reserved for an output file ({name}.*)", name,
                       "choose another name")
+        if len(name) > MAX_NAME_LENGTH:
+            self.fail(f"{where}.name", f"is longer than {MAX_NAME_LENGTH} characters (it names "
+                      "the output files)", name)
         return name
 
     def mesh(self, where: str, value: Any) -> SurfaceMesh:

@@ -101,3 +101,13 @@ def test_forced_into_the_current_directory_touches_nothing_else(tmp_path, monkey
     assert (tmp_path / "mine.txt").read_text() == "mine"
     assert (tmp_path / "summary.json").exists() and (tmp_path / "sub" / "a.txt").exists()
     assert pathlib.Path(MARKER).exists()
+
+
+def test_dot_dot_creates_no_directory_on_the_way(tmp_path, monkeypatch):
+    """`--out a/new/..` is `a`: the run goes into a/out-free `a`, and no
+    `a/new` is created on the way (issue 24)."""
+    monkeypatch.chdir(tmp_path)
+    rd = RunDirectory("a/new/..")
+    assert rd.path == tmp_path / "a"
+    _run("a/new/..")
+    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == [MARKER, "sub", "summary.json"]

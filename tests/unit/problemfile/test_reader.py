@@ -245,6 +245,12 @@ BAD = {
     "duplicate body names": (
         'name = "upper"', 'name = "lower"', "body[1].name", "'lower'", "duplicate"),
     "reserved body name": ('name = "upper"', 'name = "frame"', "body[1].name", "'frame'"),
+    "body name too long for a file name": (
+        'name = "upper"', f'name = "{"u" * 250}"', "body[1].name", "'uuuuuuuu",
+        "longer than 64 characters"),
+    "body names whose output files clash": (
+        'name = "upper"', 'name = "lower_interface"', "body[1].name", "'lower_interface'",
+        "clashes with the output files of body 'lower' (lower_interface.vtu)"),
     "body name not a file name": (
         'name = "upper"', 'name = "up/per"', "body[1].name", "'up/per'"),
     "free misspelled": (
