@@ -97,16 +97,20 @@ class RunDirectory:
         except (OSError, ValueError, KeyError, TypeError):
             return None
 
-    def foreign_files(self) -> list[str]:
-        """Files in the directory that its manifest does not list (all of
-        them when there is none), as relative paths."""
+    def foreign_files(self, limit: int = 2) -> list[str]:
+        """Up to ``limit`` files in the directory that its manifest does not
+        list (any file when there is none), as relative paths; the walk stops
+        there, so a large directory of the user's costs nothing."""
         listed = set(self.manifest() or ())
-        out = []
-        for p in sorted(self.path.rglob("*")):
-            rel = p.relative_to(self.path).as_posix()
-            if p.is_dir() or rel == MARKER or rel in listed:
-                continue
-            out.append(rel)
+        out: list[str] = []
+        for root, dirs, files in os.walk(self.path):
+            dirs.sort()
+            for name in sorted(files):
+                rel = (pathlib.Path(root) / name).relative_to(self.path).as_posix()
+                if rel != MARKER and rel not in listed:
+                    out.append(rel)
+                    if len(out) >= limit:
+                        return out
         return out
 
     # -------------------------------------------------------------------- lock
