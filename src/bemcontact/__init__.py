@@ -37,10 +37,12 @@ from .contact import (
 from .errors import (
     AccuracyWarning,
     BemcontactError,
+    BemcontactWarning,
     ConfigError,
     ConvergenceError,
     MaterialError,
     MeshError,
+    OptionalDependencyWarning,
 )
 from .linalg import HMatrixOptions, LinearSolverOptions
 from .mesh import SurfaceMesh, box, read_mesh
@@ -50,6 +52,8 @@ __all__ = [
     "__version__",
     "AccuracyWarning",
     "BemcontactError",
+    "BemcontactWarning",
+    "OptionalDependencyWarning",
     "ConfigError",
     "ConvergenceError",
     "MaterialError",

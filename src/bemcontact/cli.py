@@ -15,6 +15,10 @@ nothing written; 3 the contact solve did not converge: the message with the
 residual history and the contact states goes to stderr and a diagnostic
 ``DIR/summary.json`` (``"converged": false``) is written.  ``--debug`` shows
 the traceback instead.
+
+bemcontact's own warnings are one line each on stderr, ``bemcontact: warning:
+...``, and do not change the exit code (e.g. figures skipped because
+matplotlib is not installed: the other files are written, exit 0).
 """
 
 from __future__ import annotations
@@ -24,12 +28,13 @@ import contextlib
 import os
 import pathlib
 import sys
+import warnings
 from collections.abc import Sequence
 
 import numpy as np
 
 from ._version import __version__
-from .errors import BemcontactError, ConvergenceError
+from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
@@ -80,7 +85,8 @@ def _parser() -> argparse.ArgumentParser:
     run.add_argument("--threads", metavar="N", type=_threads,
                      help="threads for assembly, compression and LAPACK (overrides solver.threads; "
                      "default all cores, or OMP_NUM_THREADS)")
-    run.add_argument("--quiet", action="store_true", help="print nothing on success")
+    run.add_argument("--quiet", action="store_true",
+                     help="print nothing on success (warnings still go to stderr)")
     run.add_argument("--progress", choices=("auto", "live", "lines", "none"), default="auto",
                      help="progress display on stderr: live (rich) when stderr is a terminal, "
                      "lines (one per stage, increment and Newton iteration), none; default auto: "
@@ -152,7 +158,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     was: :mod:`bemcontact.output.rundir`); a closed pipe (``| head``) ends it
     quietly."""
     try:
-        return _main(argv)
+        with warnings.catch_warnings():  # restores the filters and showwarning after
+            warnings.simplefilter("default", BemcontactWarning)
+            warnings.showwarning = _one_line_warnings(warnings.showwarning)
+            return _main(argv)
     except KeyboardInterrupt:
         print("bemcontact: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -161,6 +170,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         with contextlib.suppress(OSError):
             os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return EXIT_OK
+
+
+def _one_line_warnings(show):
+    """A ``warnings.showwarning`` printing bemcontact's warnings as one line
+    ``bemcontact: warning: ...`` on stderr and others as ``show`` does."""
+
+    def showwarning(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, BemcontactWarning):
+            print(f"bemcontact: warning: {' '.join(str(message).split())}", file=sys.stderr)
+        else:
+            show(message, category, filename, lineno, file, line)
+
+    return showwarning
 
 
 def _main(argv: Sequence[str] | None) -> int:

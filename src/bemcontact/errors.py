@@ -37,10 +37,22 @@ class ConvergenceError(BemcontactError, RuntimeError):
         self.result = result
 
 
-class AccuracyWarning(UserWarning):
+class BemcontactWarning(UserWarning):
+    """Base class of the warnings bemcontact issues; each message is one
+    self-contained line (the ``bemcontact`` command prints it as
+    ``bemcontact: warning: <message>``)."""
+
+
+class AccuracyWarning(BemcontactWarning):
     """A result is less accurate than requested (e.g. an H-matrix tolerance
     too loose for the requested solve accuracy); the message says by how much
     and what to change."""
+
+
+class OptionalDependencyWarning(BemcontactWarning):
+    """An optional dependency is not installed, so an output that was on by
+    default is skipped (e.g. figures without matplotlib); the message names
+    the install command."""
 
 
 __all__ = [
@@ -49,5 +61,7 @@ __all__ = [
     "MaterialError",
     "ConfigError",
     "ConvergenceError",
+    "BemcontactWarning",
     "AccuracyWarning",
+    "OptionalDependencyWarning",
 ]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib.metadata
 import json
+import pathlib
 import subprocess
 import sys
 
@@ -12,6 +13,8 @@ import pytest
 
 import bemcontact as bc
 from bemcontact.cli import main
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 TINY = """\
 units = {{ length = "mm", force = "N", stress = "MPa" }}
@@ -341,3 +344,75 @@ def test_out_of_other_files_is_refused_unless_forced(tmp_path, capsys):
     assert (out / "summary.json").read_text() == "my summary"
     assert main(["run", str(src), "--out", str(out), "--quiet", "--force"]) == 0
     assert json.loads((out / "summary.json").read_text())["converged"] is True
+
+
+FIGURES_SKIPPED = (
+    'bemcontact: warning: figures skipped (frame_tractions.png): matplotlib is not installed; '
+    'pip install "bemcontact[plot]" to draw them'
+)
+
+
+def _tree(directory):
+    return sorted(p.relative_to(directory).as_posix() for p in directory.rglob("*"))
+
+
+@pytest.mark.parametrize("flags", [["--threads", "1"], ["--quiet"]])
+def test_run_without_matplotlib_skips_the_figures_with_one_warning_line(
+    tmp_path, capsys, monkeypatch, flags
+):
+    """Figures are on by default: without matplotlib the run still succeeds,
+    writes every other file (the same as with matplotlib, less the PNG) and
+    says so in one line on stderr (also under --quiet)."""
+    path = problem(tmp_path)
+    assert main(["run", str(path), "--out", str(tmp_path / "with"), "--quiet"]) == 0
+    capsys.readouterr()
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib fails
+    out = tmp_path / "without"
+    code = main(["run", str(path), "--out", str(out), *flags])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert captured.err.splitlines() == [FIGURES_SKIPPED]
+    assert set(_tree(tmp_path / "with")) - set(_tree(out)) == {"frame_tractions.png"}
+    assert set(_tree(out)) <= set(_tree(tmp_path / "with"))
+    assert json.loads((out / "summary.json").read_text())["converged"] is True
+    if "--quiet" in flags:
+        assert captured.out == ""
+    else:
+        assert "frame_tractions.png" not in captured.out and "frame.csv" in captured.out
+
+
+def test_check_without_matplotlib_warns_once(tmp_path, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    assert main(["check", str(problem(tmp_path))]) == 0
+    captured = capsys.readouterr()
+    assert captured.err.splitlines() == [FIGURES_SKIPPED]
+    assert "valid" in captured.out
+
+
+def test_figures_asked_for_without_matplotlib_is_one_error_line(tmp_path, capsys, monkeypatch):
+    """`[output] figures = true` is a request: refused before the solve (exit 2,
+    nothing written) rather than dropped."""
+    path = problem(tmp_path)
+    path.write_text(path.read_text() + "\n[output]\nfigures = true\n")
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.splitlines() == [
+        f"bemcontact: error: {path}: output.figures: needs matplotlib, which is not installed, "
+        'got True; pip install "bemcontact[plot]", or set figures = false'
+    ]
+    assert not out.exists()
+
+
+def test_gmsh_mesh_without_gmsh_is_one_error_line(capsys, monkeypatch):
+    """A body meshed by gmsh from the problem file names the install command."""
+    monkeypatch.setitem(sys.modules, "gmsh", None)
+    example = ROOT / "examples" / "hertz_sphere_on_block.toml"
+    assert main(["check", str(example)]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.splitlines() == [
+        f"bemcontact: error: {example}: body[0].mesh.graded_box: needs gmsh to generate this "
+        'mesh, which is not installed; pip install "bemcontact[gmsh]", or give the mesh as a file'
+    ]
+    assert captured.out == ""

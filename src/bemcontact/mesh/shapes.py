@@ -28,12 +28,24 @@ from .surface import SurfaceMesh
 _GMSH_TRIANGLES = (2, 9)
 
 
-def _gmsh():
+#: How to get gmsh (the ``gmsh`` extra).
+GMSH_INSTALL = 'pip install "bemcontact[gmsh]"'
+
+
+def load_gmsh():
+    """The gmsh module; :class:`ConfigError` (one line naming the install
+    command) if it is not installed or its libraries cannot be loaded."""
     try:
         import gmsh
-    except ImportError:  # pragma: no cover - depends on the environment
+    except ImportError:
         raise ConfigError(
-            "gmsh is needed to generate this geometry: pip install gmsh (or bemcontact[gmsh])"
+            f"needs gmsh to generate this mesh, which is not installed; {GMSH_INSTALL}, or "
+            "give the mesh as a file"
+        ) from None
+    except OSError as exc:  # the gmsh wheel's system libraries (e.g. libGLU) are missing
+        raise ConfigError(
+            f"needs gmsh to generate this mesh, which is installed but cannot be loaded "
+            f"({exc}); install the system library it names, or give the mesh as a file"
         ) from None
     return gmsh
 
@@ -54,7 +66,7 @@ def _mesh_with_gmsh(
     source of element sizes and ``mesh_size`` is the pair (smallest, largest)
     of its values, to which gmsh clamps.
     """
-    gmsh = _gmsh()
+    gmsh = load_gmsh()
     if order not in (1, 2):
         raise ConfigError(f"{name}: order must be 1 or 2, got {order!r}")
     if size is None:
@@ -511,4 +523,4 @@ def punch(
     return _expect_regions(mesh, {"contact", "side", "top"}, name)
 
 
-__all__ = ["hollow_sphere", "gmsh_box", "spherical_cap", "graded_block", "punch"]
+__all__ = ["load_gmsh", "GMSH_INSTALL", "hollow_sphere", "gmsh_box", "spherical_cap", "graded_block", "punch"]

@@ -12,7 +12,10 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
 * ``<name>.pvd`` for each of the VTU files above, with ``steps/<name>_<k>.vtu``
   (k = 001, 002, ...): the state at the end of every load step, a time series
   for ParaView (time = step number).
-* ``frame_tractions.png``: contact pressure and tangential traction on the frame.
+* ``frame_tractions.png``: contact pressure and tangential traction on the frame
+  (needs matplotlib, ``pip install "bemcontact[plot]"``; figures on by default
+  are skipped without it, with an
+  :class:`~bemcontact.errors.OptionalDependencyWarning`).
 
 VTU points are the *functional nodes* of the discretization (the collocation
 points, where the solution lives), not the mesh nodes: away from edges they
@@ -40,6 +43,7 @@ import os
 import pathlib
 import re
 import secrets
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -47,7 +51,7 @@ from typing import Any
 import numpy as np
 
 from ..contact.results import ContactResult
-from ..errors import ConfigError
+from ..errors import ConfigError, OptionalDependencyWarning
 from ..settings import Key, check_settings, setting
 from .rundir import RunDirectory
 from ..mesh.element import CORNERS
@@ -158,6 +162,10 @@ def write_results(
     may be passed) and return their paths (the per-step VTU files in
     ``steps/`` are not listed: the PVD files name them).
 
+    Without ``options``, every file is written, figures only if matplotlib
+    is installed (else an :class:`~bemcontact.errors.OptionalDependencyWarning`
+    says they were skipped).
+
     Raises :class:`ConfigError` if a body name cannot name a file,
     ``options`` asks for figures without matplotlib or ``out_dir`` may not
     be written (``force``: see :class:`RunDirectory`), ``OSError`` if the
@@ -165,7 +173,7 @@ def write_results(
     """
     if not isinstance(result, ContactResult):
         raise ConfigError(f"write_results: expected a ContactResult, got {type(result).__name__}")
-    opt = OutputOptions() if options is None else options
+    opt = OutputOptions(figures=figures_by_default()) if options is None else options
     if not isinstance(opt, OutputOptions):
         raise ConfigError(f"write_results: options must be OutputOptions, got {opt!r}")
     if opt.figures:
@@ -218,15 +226,42 @@ def write_results(
     return [out / f for f in files]
 
 
-def require_matplotlib(what: str) -> None:
-    """Raise ConfigError naming ``what`` if matplotlib cannot be imported."""
+#: How to get the figures (matplotlib is the ``plot`` extra).
+PLOT_INSTALL = 'pip install "bemcontact[plot]"'
+#: The one-line warning when figures that are on by default are skipped.
+FIGURES_SKIPPED = (
+    f"figures skipped (frame_tractions.png): matplotlib is not installed; {PLOT_INSTALL} "
+    "to draw them"
+)
+
+
+def has_matplotlib() -> bool:
+    """Whether matplotlib (the optional dependency of the figures) can be imported."""
     try:
         import matplotlib  # noqa: F401
     except ImportError:
+        return False
+    return True
+
+
+def figures_by_default() -> bool:
+    """Whether figures that nobody asked for explicitly are drawn: with
+    matplotlib yes; without it no, and an :class:`OptionalDependencyWarning`
+    (:data:`FIGURES_SKIPPED`) says so.  An explicit request for figures
+    without matplotlib is an error instead (:func:`require_matplotlib`)."""
+    if has_matplotlib():
+        return True
+    warnings.warn(FIGURES_SKIPPED, OptionalDependencyWarning, stacklevel=3)
+    return False
+
+
+def require_matplotlib(what: str) -> None:
+    """Raise ConfigError naming ``what`` if matplotlib cannot be imported."""
+    if not has_matplotlib():
         raise ConfigError(
-            f"{what}: needs matplotlib, which is not installed; pip install matplotlib, or "
+            f"{what}: needs matplotlib, which is not installed; {PLOT_INSTALL}, or "
             "turn figures off (problem file: [output] figures = false)"
-        ) from None
+        )
 
 
 def _write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str) -> None:
@@ -435,5 +470,6 @@ def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
 
 
 __all__ = [
-    "OutputOptions", "write_results", "require_matplotlib", "write_summary", "summary", "INTERFACE_COLUMNS", "FRAME_COLUMNS",
+    "OutputOptions", "write_results", "require_matplotlib", "has_matplotlib",
+    "figures_by_default", "FIGURES_SKIPPED", "write_summary", "summary", "INTERFACE_COLUMNS", "FRAME_COLUMNS",
 ]  # fmt: skip

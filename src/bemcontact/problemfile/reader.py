@@ -41,17 +41,24 @@ import os
 import pathlib
 import re
 import tomllib
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
 from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, SolverOptions
-from ..errors import BemcontactError, ConfigError
+from ..errors import BemcontactError, ConfigError, OptionalDependencyWarning
 from ..inputs import MAX_MESH_BYTES, MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg import HMatrixOptions, LinearSolverOptions
 from ..mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
-from ..output.write import OutputOptions, require_matplotlib, write_results
+from ..output.write import (
+    FIGURES_SKIPPED,
+    PLOT_INSTALL,
+    OutputOptions,
+    has_matplotlib,
+    write_results,
+)
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
 
@@ -146,7 +153,15 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
     ------
     ConfigError
         For every problem with the file, the meshes it names, the materials
-        or the boundary conditions (one-line message, see the module docstring).
+        or the boundary conditions (one-line message, see the module docstring);
+        also for ``[output] figures = true`` without matplotlib.
+
+    Warns
+    -----
+    OptionalDependencyWarning
+        Figures on by default (no ``figures`` key) without matplotlib: they
+        are turned off in ``output`` (``pip install "bemcontact[plot]"`` to
+        get them).
     """
     p = pathlib.Path(path)
     src = os.fspath(path)
@@ -180,6 +195,9 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
 
 class _Reader(Checker):
     """Reads one file's sections into bodies, a pair, options and steps."""
+
+    #: Figures on by default were turned off (no matplotlib).
+    figures_skipped = False
 
     # --------------------------------------------------------------- sections
     def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> ProblemFile:
@@ -242,6 +260,8 @@ class _Reader(Checker):
                 problem.contact_problem().frame
             except ConfigError as exc:
                 self.wrap("contact.surfaces", exc, list(surfaces))
+        if self.figures_skipped:  # stacklevel: the caller of load_problem
+            warnings.warn(FIGURES_SKIPPED, OptionalDependencyWarning, stacklevel=3)
         return problem
 
     def steps(self, value, names, meshes, surfaces, order) -> tuple[LoadStep, ...]:
@@ -275,15 +295,19 @@ class _Reader(Checker):
         return self.fields("units", self.table("units", value, key), key)
 
     def output(self, value: Any) -> OutputOptions:
+        """The ``[output]`` table.  Figures need matplotlib: asked for with
+        ``figures = true`` they are refused here without it (before the solve);
+        on by default they are skipped with an OptionalDependencyWarning."""
         key = schema.OUTPUT
-        out = OutputOptions(**self.fields("output", self.table("output", value, key), key))
-        if out.figures:
-            try:
-                require_matplotlib("output.figures")
-            except ConfigError:
+        t = self.table("output", value, key)
+        f = self.fields("output", t, key)
+        if f["figures"] and not has_matplotlib():
+            if "figures" in t:
                 self.fail("output.figures", "needs matplotlib, which is not installed", True,
-                          "pip install matplotlib, or set figures = false")
-        return out
+                          f"{PLOT_INSTALL}, or set figures = false")
+            f["figures"] = False
+            self.figures_skipped = True  # said once the whole file is read
+        return OutputOptions(**f)
 
     def solver(self, value: Any) -> SolverOptions:
         key = schema.SOLVER
@@ -409,6 +433,10 @@ class _Reader(Checker):
                     self.fail(f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}",
                               t["upper"][a])
             make, args = geometry.graded_block, (lo, hi, f.pop("focus"))
+        try:
+            geometry.load_gmsh()
+        except ConfigError as exc:  # one line without the table's echo
+            raise ConfigError(one_line(f"{self.src}: {where}: {exc}")) from None
         try:
             return make(*args, **f)
         except BemcontactError as exc:

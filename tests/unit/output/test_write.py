@@ -7,6 +7,7 @@ import csv
 import dataclasses
 import json
 import math
+import sys
 
 import meshio
 import numpy as np
@@ -311,6 +312,24 @@ def test_output_options_last_only_and_validation(result, tmp_path):
         io.OutputOptions(steps="every")
     with pytest.raises(bc.ConfigError, match="OutputOptions.vtu must be True or False"):
         io.OutputOptions(vtu=1)
+
+
+def test_without_matplotlib_default_figures_are_skipped_asked_for_refused(
+    result, tmp_path, monkeypatch
+):
+    """write_results without options writes everything else and warns; an
+    explicit OutputOptions(figures=True) is an error, nothing written."""
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.warns(bc.OptionalDependencyWarning, match=r"figures skipped") as w:
+        files = io.write_results(result, tmp_path / "o")
+    assert len(w) == 1
+    assert [f.name for f in files] == FILES[:-1]
+    assert sorted(p.name for p in (tmp_path / "o").iterdir()) == sorted(
+        [*FILES[:-1], "steps", ".bemcontact-run.json"]
+    )
+    with pytest.raises(bc.ConfigError, match=r'needs matplotlib.*pip install "bemcontact\[plot\]"'):
+        io.write_results(result, tmp_path / "p", options=io.OutputOptions(figures=True))
+    assert not (tmp_path / "p").exists()
 
 
 def test_frame_tractions_png(written):

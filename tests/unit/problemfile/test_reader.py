@@ -4,10 +4,14 @@ field path and the offending value."""
 
 from __future__ import annotations
 
+import sys
+import warnings
+
 import numpy as np
 import pytest
 
 import bemcontact as bc
+from bemcontact.output.write import OutputOptions
 from bemcontact.problemfile import load_problem
 
 # Two small cubes (1 and 1 divisions): cheap to mesh and to build the frame of.
@@ -90,6 +94,34 @@ def test_defaults_and_optional_sections(tmp_path):
     assert p.options == bc.SolverOptions()
     assert p.pair == bc.ContactPair("zmax", "zmin", 0.0, "mortar")
     assert [b.name for b in p.bodies] == ["lower", "upper"]
+
+
+def test_figures_default_on_only_with_matplotlib(tmp_path, monkeypatch):
+    """No `figures` key: figures with matplotlib; without it they are off
+    and an OptionalDependencyWarning names the install command, once the
+    whole file has been read (no warning before an error)."""
+    src = write(tmp_path, BASE)
+    assert load_problem(src).output.figures is True
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    with pytest.warns(bc.OptionalDependencyWarning,
+                      match=r'^figures skipped .*pip install "bemcontact\[plot\]"') as w:
+        p = load_problem(src)
+    assert len(w) == 1 and w[0].filename == __file__  # points at the caller
+    assert p.output == OutputOptions(figures=False)
+    bad = write(tmp_path, edit(BASE, "friction_coefficient = 0.1", "friction_coefficient = -1"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a warning would raise instead of the ConfigError
+        with pytest.raises(bc.ConfigError, match="contact.friction_coefficient"):
+            load_problem(bad)
+
+
+def test_figures_asked_for_without_matplotlib_are_refused(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    src = write(tmp_path, BASE + "\n[output]\nfigures = true\n")
+    with pytest.raises(bc.ConfigError, match=r'output.figures: needs matplotlib.*"bemcontact\[plot'):
+        load_problem(src)
+    off = write(tmp_path, BASE + "\n[output]\nfigures = false\n", "off.toml")
+    assert load_problem(off).output.figures is False  # and no warning (filterwarnings = error)
 
 
 def test_contact_bodies_order_sets_body_1(tmp_path):
