@@ -4,11 +4,14 @@
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
-CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp')
+CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp' -o -name '*.hpp.in')
+# The editable build here is tuned for this machine (-march=native); NATIVE=OFF
+# builds the portable binary that wheels and plain `pip install .` get.
+NATIVE ?= ON
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
 RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs
 
-.PHONY: all install demo test test-fast bench docs clean
+.PHONY: all install demo test test-fast test-wheel wheel bench docs clean FORCE
 
 all: install
 
@@ -18,8 +21,14 @@ $(VENV)/.deps: pyproject.toml
 	$(PY) -m pip install --quiet "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS)
 	touch $@
 
-$(VENV)/.built: $(VENV)/.deps $(CPP_SRC) CMakeLists.txt pyproject.toml
-	$(PY) -m pip install --quiet --no-build-isolation --no-deps -e .
+# rewritten only when NATIVE changes, so that a change rebuilds
+$(VENV)/.native: FORCE
+	@mkdir -p $(VENV)
+	@echo "$(NATIVE)" | cmp -s - $@ || echo "$(NATIVE)" > $@
+
+$(VENV)/.built: $(VENV)/.deps $(VENV)/.native $(CPP_SRC) CMakeLists.txt pyproject.toml
+	$(PY) -m pip install --quiet --no-build-isolation --no-deps -e . \
+		--config-settings=cmake.define.BEMCONTACT_NATIVE=$(NATIVE)
 	touch $@
 
 install: $(VENV)/.built
@@ -36,6 +45,19 @@ test: install
 test-fast: install
 	$(PY) -m pytest -q -m "not slow"
 
+# the packaging test: the wheel built, installed into a fresh venv (dependencies
+# from PyPI) and run there (minutes; not part of `make test`)
+test-wheel: install
+	$(PY) -m pytest -q -m packaging tests/test_packaging.py
+
+# A portable wheel into dist/ (baseline instruction set, no -march=native; its own
+# build directory, so the editable build here is not reconfigured):
+# pip install dist/bemcontact-*.whl on any machine of the same platform.
+wheel: $(VENV)/.deps
+	$(PY) -m pip wheel --no-build-isolation --no-deps --wheel-dir dist . \
+		--config-settings=cmake.define.BEMCONTACT_NATIVE=OFF \
+		--config-settings=build-dir=build/wheel/{wheel_tag}
+
 bench: install
 	$(PY) benchmarks/bem_one_body_N500_5000.py
 	$(PY) benchmarks/scaling.py
@@ -47,4 +69,4 @@ docs: $(VENV)/.deps
 	$(VENV)/bin/mkdocs build --strict
 
 clean:
-	rm -rf build site $(VENV)
+	rm -rf build dist site $(VENV)
