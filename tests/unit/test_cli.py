@@ -398,10 +398,10 @@ def test_figures_asked_for_without_matplotlib_is_one_error_line(tmp_path, capsys
     out = tmp_path / "out"
     assert main(["run", str(path), "--out", str(out)]) == 2
     captured = capsys.readouterr()
-    assert captured.err.splitlines() == [
+    assert captured.err.splitlines() == [(
         f"bemcontact: error: {path}: output.figures: needs matplotlib, which is not installed, "
         'got True; pip install "bemcontact[plot]", or set figures = false'
-    ]
+    )]
     assert not out.exists()
 
 
@@ -411,8 +411,8 @@ def test_gmsh_mesh_without_gmsh_is_one_error_line(capsys, monkeypatch):
     example = ROOT / "examples" / "hertz_sphere_on_block.toml"
     assert main(["check", str(example)]) == 2
     captured = capsys.readouterr()
-    assert captured.err.splitlines() == [
+    assert captured.err.splitlines() == [(
         f"bemcontact: error: {example}: body[0].mesh.graded_box: needs gmsh to generate this "
         'mesh, which is not installed; pip install "bemcontact[gmsh]", or give the mesh as a file'
-    ]
+    )]
     assert captured.out == ""
