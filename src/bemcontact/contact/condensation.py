@@ -22,18 +22,21 @@ from ..progress import ProgressEvent, Reporter
 @dataclass
 class CondensedBody:
     """One body reduced to its contact surface (the partitioned step).  For
-    contact tractions t_c (3 n_c, interleaved xyz per node), load weights
-    ell (S,) over the boundary-condition states, free rigid-mode amplitudes
-    alpha and platen translations U (force control),
+    contact tractions t_c = T c (3 n_c, interleaved xyz per node: the
+    traction modes T, :mod:`bemcontact.contact.modes`, times their
+    amplitudes c; without modes T = I, one mode per contact dof), load
+    weights ell (S,) over the boundary-condition states, free rigid-mode
+    amplitudes alpha and platen translations U (force control),
 
-        x = x0 ell + X t_c + Rf alpha + Y U,   u_c = x[dofs]
+        x = x0 ell + X c + Rf alpha + Y U,   u_c = x[dofs]
 
     where x is the BEM unknown vector (displacement at traction-given dofs,
     traction at displacement-given dofs), x0 (n, S) the response to each
     state's boundary data, Rf the rigid modes the supports leave free
     (floating bodies; alpha fixed by the body's equilibrium), Y the response
     to a unit translation of each force-controlled component (U fixed by
-    ``C x = forces ell``), F = X[dofs] the interface flexibility.
+    ``C x = forces ell``), F = X[dofs] the interface flexibility (contact
+    displacements per mode amplitude).
     """
 
     body: Any
@@ -51,6 +54,11 @@ class CondensedBody:
     forces: np.ndarray  # (nc, S) prescribed resultants per state
     timings: dict
     solver: dict = field(default_factory=dict)  # linear solver used, sizes and residuals
+    modes: Any = None  # TractionModes, or None: unit tractions per contact dof
+
+    def tractions(self, c: np.ndarray) -> np.ndarray:
+        """Contact tractions (3 n_c,) of the mode amplitudes ``c``."""
+        return c if self.modes is None else self.modes.tractions(c)
 
     @property
     def F(self) -> np.ndarray:
@@ -72,6 +80,7 @@ class CondensedBody:
 def condense(
     body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
     progress: Reporter | None = None, linear: LinearSolverOptions | None = None,
+    modes=None,
 ) -> CondensedBody:
     """Assemble the body's BEM system once, factor it, and solve for the
     response to unit tractions at each contact dof (``nodes``: the contact
@@ -82,7 +91,10 @@ def condense(
     the start and end events of the ``assembly`` and ``condensation`` stages
     (:mod:`bemcontact.progress`).  ``linear`` chooses dense operators (LAPACK
     LU) or compressed ones (H-matrix, H-LU with one step of iterative
-    refinement; :class:`~bemcontact.linalg.LinearSolverOptions`)."""
+    refinement; :class:`~bemcontact.linalg.LinearSolverOptions`).
+    ``modes`` (:class:`~bemcontact.contact.modes.TractionModes`): condense on
+    the contact traction fields of the frame's tractions instead of on unit
+    tractions at each contact dof (the contact solver's choice)."""
     d = body.discretization
     t0 = time.perf_counter()
     what = f"{body.name}: {d.n_points:,} nodes, {nodes.size:,} on the contact surface"
@@ -134,18 +146,22 @@ def condense(
     if progress is not None:
         progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
         progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
+    if modes is not None:
+        Gc = modes.right(Gc)
     rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
+    ncol = Gc.shape[1]
     del Gc
+    right = (lambda G: G) if modes is None else modes.right
     # the free modes bordered by their equilibrium rows (zero right-hand side)
     sol, _, solver_info = solve_bordered(
         A, rhs, Rf, C, backend="hlu" if compressed else "lu", linear=lin,
-        exact_rhs=lambda Bs: np.column_stack([Bs @ W[:, :S], Bs[:, dofs], Bs @ W[:, S:]]),
+        exact_rhs=lambda Bs: np.column_stack([Bs @ W[:, :S], right(Bs[:, dofs]), Bs @ W[:, S:]]),
         where=body.name,
     )
     del A
     x0 = np.ascontiguousarray(sol[:n, :S])
-    X = np.ascontiguousarray(sol[:n, S : S + dofs.size])
-    Y = np.ascontiguousarray(sol[:n, S + dofs.size :])
+    X = np.ascontiguousarray(sol[:n, S : S + ncol])
+    Y = np.ascontiguousarray(sol[:n, S + ncol :])
     Rf[ku] = 0.0  # exactly zero on supported dofs
     # work of the given tractions in the free modes: ∫ Rf . t_known dS
     modal = np.zeros((nf, S))
@@ -163,7 +179,7 @@ def condense(
     return CondensedBody(
         body, nodes, dofs, known_u, values, x0, X, Rf, modal, controls, Y,
         body.control_rows(controls), forces,
-        {"assembly": t1 - t0, "condensation": t2 - t1}, solver_info,
+        {"assembly": t1 - t0, "condensation": t2 - t1}, solver_info, modes,
     )
 
 

@@ -9,12 +9,24 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import scipy.linalg
 
+from ..errors import ConfigError
 from ..mesh.element import element_geometry
 from . import law
 from .frame import ContactFrame
+from .modes import TractionModes
 from .search import locate
+
+
+def traction_modes(frame: ContactFrame) -> tuple[TractionModes, TractionModes]:
+    """Each body's traction modes on the frame's active nodes (body 1
+    receives -lam, body 2 +lam): what :func:`~bemcontact.contact.condense`
+    condenses each body on for :class:`InterfaceSystem`."""
+    act = np.flatnonzero(frame.active)
+    return tuple(
+        TractionModes(frame.D[i][:, act], frame.Q[act], frame.M[i], sign)
+        for i, sign in enumerate((-1.0, 1.0))
+    )
 
 
 def _balance(force, target: float, step: float) -> float | None:
@@ -59,13 +71,11 @@ class InterfaceSystem:
         #: the friction coefficient of each node in the current increment
         #: (0 while the node closes: :meth:`start_increment`)
         self.mu_nodes = np.full(m, self.mu)
-        Q = frame.Q[act]  # (m, 3, 3)
         a = frame.weights[act]
         self.a = a
         self.area = float(a.sum())
         self.r = r_scale / frame.size[act]  # r_n = r_t = c E*/h_j
-        signs = (-1.0, 1.0)
-        self.DQ, self.T, self.W = [], [], []
+        a3 = np.repeat(a, 3)[:, None]
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
         k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
@@ -77,19 +87,15 @@ class InterfaceSystem:
         self.CT = []  # (nc, 3m): resultants of the controlled components per lam
         self.CY = []  # (nc, nc): ... per platen translation
         for i, c in enumerate(cb):
-            # tractions on the whole contact surface (M^-1 D is not local):
-            # exact balance of the two bodies' interface forces
-            D = frame.D[i][:, act]  # (n, m)
-            n = D.shape[0]
-            MiD = scipy.linalg.cho_solve(scipy.linalg.cho_factor(frame.M[i]), D)
-            # block (p, j) = coefficient * Q_j  ->  (3n, 3m)
-            DQ = signs[i] * np.einsum("pj,jcl->pcjl", D, Q).reshape(3 * n, 3 * m)
-            T = signs[i] * np.einsum("pj,jcl->pcjl", MiD, Q).reshape(3 * n, 3 * m)
-            Wm = signs[i] * np.einsum("pj,jcl->jlpc", D / a[None, :], Q).reshape(3 * m, 3 * n)
-            self.DQ.append(DQ)
-            self.T.append(T)
-            self.W.append(Wm)
-            K += Wm @ (c.F @ T)
+            if c.modes is None or c.modes.size != 3 * m:
+                raise ConfigError(
+                    f"{c.body.name}: condense the body on the frame's traction modes "
+                    "(condense(..., modes=traction_modes(frame)[i]))"
+                )
+            # nodal forces per frame traction B (signed), weighted gap rows
+            # W = diag(1/a) B^T: k = sum_a W_a x_a[dofs]
+            Bt = c.modes.B.T  # (3m, 3n) sparse
+            K += (Bt @ c.F) / a3
             if frame.rule == "mortar":
                 # positions: exact for any overlap because (*) holds
                 X = c.body.discretization.points[c.nodes].ravel()
@@ -98,13 +104,14 @@ class InterfaceSystem:
                 # node's offset to the frame surface (the paper's g0), so the
                 # position of the origin does not enter
                 X = frame.offsets(i).ravel()
-            k0X += Wm @ X
-            k0u += Wm @ c.u0
-            self.L.append(Wm @ c.Rc)
-            self.L.append(Wm @ c.Yc)
+            k0X += (Bt @ X) / a3[:, 0]
+            k0u += (Bt @ c.u0) / a3
+            BtR = Bt @ c.Rc
+            self.L.append(BtR / a3)
+            self.L.append((Bt @ c.Yc) / a3)
             # equilibrium in the free rigid modes, scaled to traction units
-            self.E.append(c.Rc.T @ DQ)
-            self.CT.append((c.C @ c.X) @ T)  # (C X) first: C has a row per control
+            self.E.append(BtR.T)
+            self.CT.append(c.C @ c.X)  # (C X) first: C has a row per control
             # a platen translation that strains nothing (the body is held only
             # by the contact in that direction) has no resultant: make that
             # exact, so an open contact shows as a singular Newton matrix
@@ -120,9 +127,9 @@ class InterfaceSystem:
         self.k0X = k0X
         self.k0u = k0u
         self._located: dict[int, tuple] = {}
-        # dk/dz (3m, nz) and the linear rows besides the law (ne, nz)
-        self._dk = np.hstack([K, *[L for L in self.L if L.shape[1]]])
-        m3, nz = 3 * m, self._dk.shape[1]
+        # dk/dz = [K, L...] (3m, nz) and the linear rows besides the law (ne, nz)
+        self._Lz = np.hstack([L for L in self.L]) if self.L else np.zeros((3 * m, 0))
+        m3, nz = 3 * m, 3 * m + self._Lz.shape[1]
         eq = []
         col = m3
         for i in range(len(cb)):
@@ -216,9 +223,9 @@ class InterfaceSystem:
         J = np.empty((rows.size, nz))
         mc = closed.size
         # law rows of closed nodes: Jl_j on the diagonal block + Jk_j (dk_j/dz)
-        J[: 3 * mc] = np.einsum(
-            "jab,jbn->jan", Jk[closed], self._dk[cdofs].reshape(mc, 3, nz)
-        ).reshape(3 * mc, nz)
+        dk = np.hstack([self.K[cdofs], self._Lz[cdofs]]).reshape(mc, 3, nz)
+        J[: 3 * mc] = np.einsum("jab,jbn->jan", Jk[closed], dk).reshape(3 * mc, nz)
+        del dk
         diag = J[: 3 * mc].reshape(mc, 3, nz)
         cols = 3 * closed[:, None, None] + np.arange(3)[None, None, :]
         np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None], cols), Jl[closed])
@@ -280,4 +287,4 @@ class InterfaceSystem:
         return self._located[i]
 
 
-__all__ = ["InterfaceSystem"]
+__all__ = ["InterfaceSystem", "traction_modes"]

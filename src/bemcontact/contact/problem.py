@@ -17,7 +17,7 @@ from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
 from .frame import ContactFrame
-from .interface import InterfaceSystem
+from .interface import InterfaceSystem, traction_modes
 from .newton import newton
 from .options import SolverOptions
 from .pair import ContactPair
@@ -222,8 +222,10 @@ class ContactProblem:
         with Stopwatch(report, "frame", "contact frame"):
             frame = self.frame
         t1 = time.perf_counter()
+        modes = traction_modes(frame)
         cb = tuple(
-            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report, opt.linear)
+            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report, opt.linear,
+                     modes[a])
             for a, b in enumerate(self.bodies)
         )
         t2 = time.perf_counter()

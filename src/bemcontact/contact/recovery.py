@@ -55,9 +55,9 @@ def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
     state_full = frame_res.state
     for i, (c, b) in enumerate(zip(system.cb, bodies)):
         d = b.discretization
-        tc = system.T[i] @ lam
+        tc = c.tractions(lam)
         al, U = parts[2 * i], parts[2 * i + 1]
-        x = c.x0 @ ell + c.X @ tc
+        x = c.x0 @ ell + c.X @ lam
         if al.size:
             x = x + c.Rf @ al
         if U.size:
@@ -121,9 +121,9 @@ def _interface(system, i, sol, other_sol, frame_state) -> InterfaceResult:
     slip = du - np.einsum("pc,pc->p", du, n)[:, None] * n
     slip[~inside] = np.nan
     # state: that of the frame node most strongly coupled to the node
-    D = fr.D[i]
-    strongest = np.argmax(np.abs(D), axis=1)
-    coupled = np.abs(D).max(axis=1) > 0
+    D = abs(fr.D[i]).tocsr()
+    strongest = np.asarray(D.argmax(axis=1)).ravel()
+    coupled = np.asarray(D.sum(axis=1)).ravel() > 0
     # nodes off the other body's surface are open whatever their coupling
     state = np.where(coupled & inside, frame_state[strongest], 0).astype(np.int8)
     return InterfaceResult(

@@ -104,23 +104,28 @@ def inverse_map(
     etype = mesh.element_type
     xi = np.tile(CENTROIDS[etype], (len(z), 1))
     X = mesh.nodes[mesh.elements[elements]]
+    # Newton on each point until its own update is below 1e-14, or stalls
+    # below 1e-10 (round-off of coordinates far from the origin); converged
+    # points drop out (NaN: a degenerate projection, left to the caller's checks)
+    todo = np.arange(len(z))
+    last = np.full(len(z), np.inf)
     for _ in range(iters):
-        x, a, b = element_geometry(mesh, elements, xi, X)
-        r = np.einsum("pdi,pd->pi", T, x - z)
-        J = np.stack([np.einsum("pdi,pd->pi", T, a), np.einsum("pdi,pd->pi", T, b)], axis=2)
-        det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
-        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
-        dxi = np.stack(
-            [
-                (J[:, 1, 1] * r[:, 0] - J[:, 0, 1] * r[:, 1]) / det,
-                (-J[:, 1, 0] * r[:, 0] + J[:, 0, 0] * r[:, 1]) / det,
-            ],
-            axis=1,
-        )
-        xi = xi - dxi
-        # converged (NaN: a degenerate projection, left to the caller's checks)
-        if not np.any(np.abs(dxi) >= 1e-14):
+        if not todo.size:
             break
+        Tp = T[todo]
+        x, a, b = element_geometry(mesh, None, xi[todo], X[todo])
+        r = np.einsum("pdi,pd->pi", Tp, x - z[todo])
+        J00, J01 = np.einsum("pd,pd->p", Tp[:, :, 0], a), np.einsum("pd,pd->p", Tp[:, :, 0], b)
+        J10, J11 = np.einsum("pd,pd->p", Tp[:, :, 1], a), np.einsum("pd,pd->p", Tp[:, :, 1], b)
+        det = J00 * J11 - J01 * J10
+        det = np.where(np.abs(det) > 1e-300, det, 1e-300)
+        dxi = np.stack([(J11 * r[:, 0] - J01 * r[:, 1]) / det,
+                        (-J10 * r[:, 0] + J00 * r[:, 1]) / det], axis=1)
+        xi[todo] -= dxi
+        step = np.abs(dxi).max(axis=1)
+        stalled = (step < 1e-10) & (step > 0.25 * last[todo])
+        last[todo] = step
+        todo = todo[(step >= 1e-14) & ~stalled]
     return xi
 
 

@@ -144,8 +144,9 @@ def test_newton_matrix_matches_central_differences():
     steps = [bc.LoadStep(label="P"), _q(68.0)]
     states = prob.states(steps)
     frame = prob.frame
+    modes = interface.traction_modes(frame)
     cb = tuple(
-        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states])
+        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states], modes=modes[a])
         for a, b in enumerate(prob.bodies)
     )
     system = interface.InterfaceSystem(frame, cb, MU, prob.contact_modulus())
