@@ -209,28 +209,61 @@ class InterfaceSystem:
         eq = self._rows(lam, parts, ell)
         return np.concatenate([phi, *eq]) if eq else phi
 
+    def _law(self, z, ell, k_prev):
+        lam, _ = self.split(z)
+        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu_nodes,
+                                     self.r, self.r)
+        closed = np.flatnonzero(state != law.OPEN)
+        return Jl, Jk, state, closed, (3 * closed[:, None] + np.arange(3)).ravel()
+
+    def _block(self, Jl, Jk, closed, cdofs, cols):
+        """J[rows, cols] for the rows of the closed nodes (Jl_j on the
+        diagonal block + Jk_j dk_j/dz) and the linear rows; ``cols`` sorted,
+        containing the closed nodes' own columns."""
+        m3 = 3 * self.m
+        lc, ec = cols[cols < m3], cols[cols >= m3] - m3
+        mc = closed.size
+        dk = np.empty((3 * mc, cols.size))
+        dk[:, : lc.size] = self.K[np.ix_(cdofs, lc)]
+        dk[:, lc.size :] = self._Lz[np.ix_(cdofs, ec)]
+        J = np.empty((3 * mc + self._eq.shape[0], cols.size))
+        if mc:
+            J[: 3 * mc] = np.einsum("jab,jbn->jan", Jk[closed],
+                                    dk.reshape(mc, 3, cols.size)).reshape(3 * mc, cols.size)
+            own = np.searchsorted(cols, cdofs).reshape(mc, 3)  # columns of each node's own lam
+            diag = J[: 3 * mc].reshape(mc, 3, cols.size)
+            np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None],
+                             own[:, None, :]), Jl[closed])
+        del dk
+        J[3 * mc :] = self._eq[:, cols]
+        return J
+
     def jacobian(self, z, ell, k_prev):
         """The rows of the generalized Jacobian that are not those of open
         nodes (an open node's row is the identity: lam_j = 0), with every
         column: returns ``(J[rows], rows, state)``."""
-        lam, _ = self.split(z)
-        kk = self.k(z, ell)
-        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), kk, k_prev, self.mu_nodes, self.r, self.r)
+        Jl, Jk, state, closed, cdofs = self._law(z, ell, k_prev)
         m3, nz = 3 * self.m, z.size
-        closed = np.flatnonzero(state != law.OPEN)
-        cdofs = (3 * closed[:, None] + np.arange(3)).ravel()
         rows = np.concatenate([cdofs, np.arange(m3, nz)])
-        J = np.empty((rows.size, nz))
-        mc = closed.size
-        # law rows of closed nodes: Jl_j on the diagonal block + Jk_j (dk_j/dz)
-        dk = np.hstack([self.K[cdofs], self._Lz[cdofs]]).reshape(mc, 3, nz)
-        J[: 3 * mc] = np.einsum("jab,jbn->jan", Jk[closed], dk).reshape(3 * mc, nz)
-        del dk
-        diag = J[: 3 * mc].reshape(mc, 3, nz)
-        cols = 3 * closed[:, None, None] + np.arange(3)[None, None, :]
-        np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None], cols), Jl[closed])
-        J[3 * mc :] = self._eq
-        return J, rows, state
+        return self._block(Jl, Jk, closed, cdofs, np.arange(nz)), rows, state
+
+    def newton_system(self, z, ell, k_prev, phi):
+        """The Newton system J dz = -phi with the open nodes' rows (the
+        identity: dz_j = -lam_j) eliminated: returns ``(A, b, keep, state)``
+        with A = J[keep, keep] (closed nodes and extra unknowns) and
+        b = -phi[keep] - J[keep, open] dz_open; dz[open] = -phi[open]."""
+        Jl, Jk, state, closed, cdofs = self._law(z, ell, k_prev)
+        m3, nz = 3 * self.m, z.size
+        keep = np.concatenate([cdofs, np.arange(m3, nz)])
+        A = self._block(Jl, Jk, closed, cdofs, keep)
+        is_open = np.ones(m3, dtype=bool)
+        is_open[cdofs] = False
+        dlam = np.where(is_open, -phi[:m3], 0.0)  # the open part of dz (extras: 0)
+        dk = (self.K @ dlam)[cdofs].reshape(closed.size, 3)
+        b = -phi[keep]
+        b[: cdofs.size] -= np.einsum("jab,jb->ja", Jk[closed], dk).ravel()
+        b[cdofs.size :] -= self._eq[:, :m3] @ dlam
+        return A, b, keep, state
 
     def first_touch(self, z, ell, k_prev) -> np.ndarray:
         """Predictor for a force-controlled body held only by the contact

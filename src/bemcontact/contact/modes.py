@@ -16,12 +16,19 @@ M_a.
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse
 import scipy.sparse.linalg
 
 #: Rows of a right factor processed at once by :meth:`TractionModes.right`
 #: (bounds its temporary memory to a few such blocks).
 CHUNK = 2048
+#: Largest contact surface (nodes) whose mass :meth:`TractionModes.right`
+#: factors densely: a dense Cholesky solve with many right-hand sides runs
+#: at BLAS-3 speed, 3.5x faster than SuperLU's sparse one at 1,197 nodes
+#: (1.07 s against 3.73 s for 15,777 right-hand sides, measured) and still
+#: ahead at a few thousand; above this the n^2 memory decides (288 MB).
+DENSE_MASS = 6000
 
 
 class TractionModes:
@@ -45,7 +52,8 @@ class TractionModes:
             (vals.ravel(), (rows.ravel(), cols.ravel())), shape=(3 * n, 3 * m)
         ).tocsr()
         self.size = 3 * m
-        self._lu = scipy.sparse.linalg.splu(scipy.sparse.csc_array(M))
+        self._M = scipy.sparse.csc_array(M)
+        self._lu = scipy.sparse.linalg.splu(self._M)
 
     def _minv(self, F: np.ndarray) -> np.ndarray:
         """(M^-1 ⊗ I_3) F for F (3n, r)."""
@@ -62,11 +70,19 @@ class TractionModes:
         """G T for G (r, 3n): each row of G, a functional of the contact
         tractions, as a functional of the frame tractions (r, 3m).  M is
         symmetric, so G (M^-1 ⊗ I) = ((M^-1 ⊗ I) G^T)^T; rows in blocks of
-        :data:`CHUNK`."""
+        :data:`CHUNK`, M factored densely up to :data:`DENSE_MASS` nodes."""
         out = np.empty((G.shape[0], self.size))
+        minv = self._minv
+        if self.n <= DENSE_MASS:
+            chol = scipy.linalg.cho_factor(self._M.toarray())
+
+            def minv(F):
+                r = F.shape[1]
+                return scipy.linalg.cho_solve(chol, F.reshape(self.n, 3 * r)).reshape(3 * self.n, r)
+
         for s in range(0, G.shape[0], CHUNK):
             g = np.ascontiguousarray(G[s : s + CHUNK].T)  # (3n, r)
-            out[s : s + CHUNK] = (self.B.T @ self._minv(g)).T
+            out[s : s + CHUNK] = (self.B.T @ minv(g)).T
         return out
 
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.linalg
+import scipy.sparse.linalg
 
 from ..progress import ProgressEvent, Reporter
 from .options import SolverOptions
@@ -30,32 +31,101 @@ SINGULAR = (
 )
 
 
-def newton_direction(J: np.ndarray, keep: np.ndarray, phi: np.ndarray) -> np.ndarray | str:
-    """The Newton direction dz with J dz = -phi, for ``J`` the rows ``keep``
-    of the generalized Jacobian (every other row is the identity: an open
-    node's lam = 0): those rows are eliminated and only the closed nodes and
-    the extra unknowns are factored (dense LU).  Returns a message instead
-    when the matrix is not usable or singular."""
-    is_open = np.ones(phi.size, dtype=bool)
-    is_open[keep] = False
-    dz = np.zeros_like(phi)
-    dz[is_open] = -phi[is_open]
-    if not keep.size:
+class NewtonSteps:
+    """The Newton directions of one load increment: J dz = -phi with the open
+    nodes' rows eliminated (:meth:`~bemcontact.contact.interface.
+    InterfaceSystem.newton_system`), the reduced matrix A of the closed
+    nodes and extra unknowns factored by dense LU.  While the closed set
+    stays the same (only stick and slip change, as in every tangential
+    increment once the contact patch is found), A changes only in the law
+    blocks of the nodes that changed, so the last LU is reused as the
+    preconditioner of GMRES (inexact Newton: to ``forcing`` x |b|), and A is
+    factored again only when GMRES needs more than ``max_krylov``
+    iterations.  ``stats`` counts factorizations and Krylov iterations."""
+
+    def __init__(self, reuse: bool = True, max_krylov: int = 30, max_change: float = 0.1) -> None:
+        self.reuse = reuse
+        self.max_change = max_change
+        self.max_krylov = max_krylov
+        self._last: tuple | None = None  # (keep, lu)
+        self.stats = {"factorizations": 0, "krylov_steps": 0, "krylov_iterations": 0,
+                      "krylov_failures": 0}
+
+    def __call__(self, A: np.ndarray, b: np.ndarray, keep: np.ndarray, phi: np.ndarray,
+                 forcing: float = 1e-10) -> np.ndarray | str:
+        """dz with A dz[keep] = b and dz = -phi on every other row (an open
+        node's lam = 0); a message instead when the matrix is not usable or
+        singular."""
+        dz = -phi.copy()
+        if not keep.size:
+            return dz
+        if self.reuse and self._last is not None:
+            old = self._last[0]
+            common = np.intersect1d(old, keep, assume_unique=True)
+            if keep.size - common.size + old.size - common.size <= self.max_change * keep.size:
+                x = self._krylov(A, b, keep, old, self._last[1], forcing)
+                if x is not None:
+                    dz[keep] = x
+                    return dz
+        try:
+            with warnings.catch_warnings():
+                # exact singularity is diagnosed below, with a better message
+                warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
+                lu = scipy.linalg.lu_factor(A, check_finite=True)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            return f"the Newton matrix is not usable ({exc})"
+        self.stats["factorizations"] += 1
+        d = np.abs(np.diag(lu[0]))
+        if d.min() <= 1e-13 * d.max():
+            return SINGULAR
+        self._last = (keep, lu)
+        dz[keep] = scipy.linalg.lu_solve(lu, b)
         return dz
-    Jkk = J[:, keep]
-    rhs = -phi[keep] - J @ dz  # dz holds only the open rows yet
-    try:
-        with warnings.catch_warnings():
-            # exact singularity is diagnosed below, with a better message
-            warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-            lu = scipy.linalg.lu_factor(Jkk, check_finite=True)
-    except (ValueError, np.linalg.LinAlgError) as exc:
-        return f"the Newton matrix is not usable ({exc})"
-    d = np.abs(np.diag(lu[0]))
-    if d.min() <= 1e-13 * d.max():
-        return SINGULAR
-    dz[keep] = scipy.linalg.lu_solve(lu, rhs)
-    return dz
+
+    def _krylov(self, A, b, keep, old, lu, forcing):
+        """GMRES on A x = b preconditioned by the LU of the last factored
+        matrix (on the dofs both share; the diagonal on the new ones)."""
+        n = b.size
+        if np.array_equal(old, keep):
+            def apply(v):
+                return scipy.linalg.lu_solve(lu, v)
+        else:
+            in_old = np.searchsorted(old, keep)
+            in_old = np.minimum(in_old, old.size - 1)
+            shared = old[in_old] == keep
+            at_old = in_old[shared]
+            new = ~shared  # law dofs of nodes closed since (nonzero diagonal)
+            dinv = 1.0 / np.diag(A)[new]
+
+            def apply(v):
+                w = np.zeros(old.size)
+                w[at_old] = v[shared]
+                y = scipy.linalg.lu_solve(lu, w)
+                out = np.empty_like(v)
+                out[shared] = y[at_old]
+                out[new] = v[new] * dinv
+                return out
+        pre = scipy.sparse.linalg.LinearOperator((n, n), apply)
+        count = [0]
+
+        def cb(_):
+            count[0] += 1
+
+        x, info = scipy.sparse.linalg.gmres(A, b, x0=apply(b), rtol=forcing, atol=0.0, M=pre,
+                                            restart=self.max_krylov, maxiter=1,
+                                            callback=cb, callback_type="pr_norm")
+        self.stats["krylov_steps"] += 1
+        self.stats["krylov_iterations"] += count[0]
+        if info == 0 and np.all(np.isfinite(x)):
+            return x
+        self.stats["krylov_failures"] += 1
+        return None
+
+
+def newton_direction(A: np.ndarray, b: np.ndarray, keep: np.ndarray,
+                     phi: np.ndarray) -> np.ndarray | str:
+    """One Newton direction by a fresh LU (:class:`NewtonSteps` without reuse)."""
+    return NewtonSteps(reuse=False)(A, b, keep, phi)
 
 
 @dataclass
@@ -105,11 +175,14 @@ class Watchdog:
 
 
 def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: SolverOptions,
-           report: Reporter | None = None, index: int = 0, total: int = 0):
+           report: Reporter | None = None, index: int = 0, total: int = 0,
+           solver: NewtonSteps | None = None):
     """Solve one load increment of the interface system ``system``
     (:class:`~bemcontact.contact.interface.InterfaceSystem`) from ``z``:
     returns (z, :class:`StepRecord`, message), the message None on
-    convergence (max |Phi| <= tolerance x traction scale)."""
+    convergence (max |Phi| <= tolerance x traction scale).  ``solver``: the
+    step solver, kept across increments to reuse its factorization (default
+    a new one as ``opt.newton_steps`` says)."""
     hist: list[float] = []
     steps: list[float] = []
     z = system.first_touch(z, ell, k_prev)
@@ -117,6 +190,9 @@ def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: Solv
     m3 = 3 * system.m
     scale = max(np.abs(phi).max(initial=0.0), np.abs(z[:m3]).max(initial=0.0), 1e-300)
     search = Watchdog(opt.line_search_sigma, opt.watchdog, opt.min_step)
+    if solver is None:
+        solver = NewtonSteps(reuse=opt.newton_steps == "reuse")
+    before = dict(solver.stats)
     it = 0
     msg = None
     while True:
@@ -131,8 +207,9 @@ def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: Solv
         if it >= opt.max_iterations:
             msg = f"no convergence in {opt.max_iterations} iterations"
             break
-        J, keep, _ = system.jacobian(z, ell, k_prev)
-        dz = newton_direction(J, keep, phi)
+        A, b, keep, _ = system.newton_system(z, ell, k_prev, phi)
+        dz = solver(A, b, keep, phi, min(1e-2, max(1e-12, 0.1 * err)))
+        del A
         if isinstance(dz, str):
             msg = dz
             break
@@ -144,7 +221,10 @@ def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: Solv
         z, phi, alpha = taken
         steps.append(alpha)
         it += 1
-    return z, StepRecord(1.0, it, hist, msg is None, steps), msg
+    rec = StepRecord(1.0, it, hist, msg is None, steps)
+    rec.factorizations = solver.stats["factorizations"] - before["factorizations"]
+    rec.krylov_iterations = solver.stats["krylov_iterations"] - before["krylov_iterations"]
+    return z, rec, msg
 
 
-__all__ = ["newton", "newton_direction", "Watchdog"]
+__all__ = ["newton", "newton_direction", "NewtonSteps", "Watchdog"]

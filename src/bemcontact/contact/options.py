@@ -48,6 +48,13 @@ class SolverOptions:
         step).  Stick-to-slip transitions make the residual rise for a few
         full steps on the way to the solution; a monotone search then takes
         tiny steps (tens of iterations instead of a handful).
+    newton_steps:
+        How each Newton step's linear system (the closed nodes' block of the
+        generalized Jacobian) is solved: ``"lu"`` factors it in every
+        iteration; ``"reuse"`` (default) factors it when the closed set
+        changes by more than a tenth and otherwise solves by GMRES
+        preconditioned with the last factorization (inexact Newton; the same
+        converged answer, measured to 1e-15 in forces on Cattaneo–Mindlin).
     threads:
         Threads for every parallel part: the OpenMP assembly and H-matrix
         work, and BLAS/LAPACK (the condensation's LU) during the solve
@@ -83,6 +90,10 @@ class SolverOptions:
     watchdog: int = setting(Key(
         "watchdog", "integer", "full Newton steps allowed without a decrease of the residual "
         "before returning to the best point (0: monotone line search)", default=5, lo=0))
+    newton_steps: str = setting(Key(
+        "newton_steps", "string", "`lu`: factor the closed nodes' Newton matrix in every "
+        "iteration; `reuse`: GMRES preconditioned by the last factorization while the closed "
+        "set changes little", default="reuse", choices=("lu", "reuse")))
     threads: int | None = setting(Key(
         "threads", "integer", "threads of every parallel part: assembly and compression "
         "(OpenMP) and the LU (BLAS/LAPACK); the command line's `--threads` overrides it",

@@ -18,7 +18,7 @@ from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
 from .frame import ContactFrame
 from .interface import InterfaceSystem, traction_modes
-from .newton import newton
+from .newton import NewtonSteps, newton
 from .options import SolverOptions
 from .pair import ContactPair
 from .recovery import recover
@@ -231,6 +231,7 @@ class ContactProblem:
         t2 = time.perf_counter()
         system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
         t3 = time.perf_counter()
+        steps_solver = NewtonSteps(reuse=opt.newton_steps == "reuse")
         records: list[StepRecord] = []
         history: list[ContactResult] = []
         z = system.zero()
@@ -255,7 +256,7 @@ class ContactProblem:
                     report(ProgressEvent("increment", "newton",
                                          f"{name} increment {i}/{step.increments}",
                                          index=done, total=total))
-                z, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total)
+                z, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total, steps_solver)
                 rec.load_factor = tau
                 rec.step = s_ + 1
                 rec.label = step.label

@@ -94,6 +94,10 @@ class StepRecord:
     line_search_steps: list[float] = field(default_factory=list)
     step: int = 1
     label: str = ""
+    #: Newton matrices factored, and GMRES iterations of the steps solved
+    #: with a reused factorization (SolverOptions.newton_steps)
+    factorizations: int = 0
+    krylov_iterations: int = 0
 
 
 @dataclass

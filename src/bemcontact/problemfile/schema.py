@@ -229,7 +229,7 @@ SOLVER = Key(
     default={}, section="solver",
     keys=(
         *keys_of(SolverOptions, "tolerance", "max_iterations", "load_steps", "penalty",
-                 "line_search_sigma", "min_step", "watchdog", "threads"),
+                 "line_search_sigma", "min_step", "watchdog", "newton_steps", "threads"),
         LINEAR,
     ),
 )

@@ -1,0 +1,81 @@
+"""Newton steps (contact/newton.py): a reused factorization as GMRES
+preconditioner gives the step of a fresh LU to the forcing tolerance, and
+the whole solve the same answer."""
+
+import numpy as np
+import pytest
+
+import bemcontact as bc
+from bemcontact.contact import interface, law
+from bemcontact.contact.newton import NewtonSteps, newton
+
+from .test_problem import MU, P, _problem, _q
+
+
+@pytest.fixture(scope="module")
+def partial_slip():
+    """The two-block problem of test_problem at Q = 0.85 mu P after two
+    Newton iterations (a partial-slip point), and the system."""
+    prob = _problem()
+    steps = [bc.LoadStep(label="P"), _q(0.85 * MU * P)]
+    states = prob.states(steps)
+    frame = prob.frame
+    modes = interface.traction_modes(frame)
+    cb = tuple(
+        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states], modes=modes[a])
+        for a, b in enumerate(prob.bodies)
+    )
+    system = interface.InterfaceSystem(frame, cb, MU, prob.contact_modulus())
+    z, _, msg = newton(system, system.zero(), np.array([1.0, 0.0]), system.k_initial_t(),
+                       bc.SolverOptions())
+    assert msg is None
+    k_prev = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
+    ell = np.array([0.0, 1.0])
+    return system, z, ell, k_prev
+
+
+def test_reused_factorization_gives_the_direct_step(partial_slip):
+    """Factor the Newton matrix at one iterate, then take the step at the
+    next one (same closed set, stick/slip changed) by GMRES preconditioned
+    with that factorization: it equals the fresh LU's step to the forcing
+    tolerance (relative residual 1e-10 -> step error <= 1e-8 with the
+    matrix's condition; measured 6e-14), in 10 Krylov iterations (8 of 16 nodes
+    changed state)."""
+    system, z, ell, k_prev = partial_slip
+    steps = NewtonSteps()
+    phi = system.residual(z, ell, k_prev)
+    A, b, keep, state0 = system.newton_system(z, ell, k_prev, phi)
+    dz = steps(A, b, keep, phi)
+    z1 = z + dz
+    phi1 = system.residual(z1, ell, k_prev)
+    A1, b1, keep1, state1 = system.newton_system(z1, ell, k_prev, phi1)
+    assert np.array_equal(keep1, keep) and not np.array_equal(state1, state0)
+    assert (state1 == law.STICK).any() and (state1 == law.SLIP).any()
+    reused = steps(A1.copy(), b1, keep1, phi1, forcing=1e-10)
+    assert steps.stats["factorizations"] == 1 and steps.stats["krylov_steps"] == 1
+    assert 0 < steps.stats["krylov_iterations"] <= 30
+    direct = NewtonSteps(reuse=False)(A1, b1, keep1, phi1)
+    assert np.abs(reused - direct).max() <= 1e-8 * np.abs(direct).max()
+
+
+def test_reuse_changes_nothing_but_the_factorizations():
+    """The whole P, Q cycle with newton_steps = "lu" and "reuse": the same
+    forces to 1e-9 (the Newton tolerance 1e-10 of the traction scale), the
+    same contact states, and fewer factorizations with reuse."""
+    prob = _problem()
+    steps = [bc.LoadStep(label="P"), _q(0.85 * MU * P, P), _q(0.5 * MU * P, P)]
+    a = prob.solve(bc.SolverOptions(newton_steps="lu"), steps=steps)
+    b = prob.solve(bc.SolverOptions(newton_steps="reuse"), steps=steps)
+    for ra, rb in zip(a.history, b.history):
+        np.testing.assert_allclose(rb.contact_force, ra.contact_force, rtol=0,
+                                   atol=1e-9 * abs(ra.normal_force))
+        np.testing.assert_array_equal(rb.frame.state, ra.frame.state)
+    fa = sum(s.factorizations for s in a.steps)
+    fb = sum(s.factorizations for s in b.steps)
+    assert fa == a.newton_iterations and fb < fa
+    assert sum(s.krylov_iterations for s in b.steps) > 0
+
+
+def test_newton_steps_option_is_checked():
+    with pytest.raises(bc.ConfigError, match="newton_steps"):
+        bc.SolverOptions(newton_steps="cg")
