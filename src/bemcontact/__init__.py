@@ -43,6 +43,7 @@ from .errors import (
     MaterialError,
     MeshError,
     OptionalDependencyWarning,
+    ResourceLimitWarning,
 )
 from .linalg import HMatrixOptions, LinearSolverOptions
 from .mesh import SurfaceMesh, box, read_mesh
@@ -54,6 +55,7 @@ __all__ = [
     "BemcontactError",
     "BemcontactWarning",
     "OptionalDependencyWarning",
+    "ResourceLimitWarning",
     "ConfigError",
     "ConvergenceError",
     "MaterialError",

@@ -34,6 +34,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ._version import __version__
+from .contact.memory import machine_memory
 from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import RunDirectory
 from .output.write import write_summary
@@ -258,17 +259,12 @@ def _mesh_info(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _mb(nbytes: float) -> str:
-    return f"{nbytes / 1e6:,.0f} MB" if nbytes >= 1e6 else f"{nbytes / 1e3:,.0f} kB"
-
-
 def _describe(problem) -> str:
     """What ``run`` would solve: per body its mesh, nodes, regions and
     conditions; the contact pair and frame; steps; memory of the dense path."""
     cp = problem.contact_problem()
     frame = cp.frame
     lines = [f"{problem.path}: valid" + (f" ({problem.title})" if problem.title else "")]
-    peak = 0.0
     compressed: list[str] = []
     for a, body in enumerate(problem.bodies):
         d = body.discretization
@@ -287,10 +283,6 @@ def _describe(problem) -> str:
             if name == (problem.pair.surface1 if a == 0 else problem.pair.surface2):
                 what = f"contact surface ({nc} candidate nodes)"
             lines.append(f"    region {name}: {counts[r]} nodes, {what}")
-        # dense path: the system matrix, then the solution block for the
-        # contact columns (3 n_c) and their right-hand sides
-        need = 8.0 * ((3 * n + 6) ** 2 + 2 * 3 * n * (3 * nc + 4))
-        peak = max(peak, need)
         if problem.options.linear.use_hmatrix(n):
             compressed.append(body.name)
     pair = problem.pair
@@ -304,12 +296,16 @@ def _describe(problem) -> str:
         f"  load: {len(steps)} step(s), {sum(s.increments for s in steps)} increment(s)"
         if steps else f"  load: one step in {problem.options.load_steps} increment(s)"
     )
-    lines.append(f"  estimated peak memory (dense path, one body at a time): {_mb(peak)}")
+    est = cp.memory_estimate(problem.options, steps or None)
+    total, available = machine_memory()
+    lines.append(
+        f"  estimated peak memory: {est.text()}; this machine: {available / 1e9:.1f} GB "
+        f"available of {total / 1e9:.1f} GB"
+    )
     if compressed:
         lines.append(
-            f"  compressed operators (H-matrix, H-LU) for {', '.join(compressed)}: their memory "
-            "is known only after the build (about 30-65 % of the dense matrix at 2,000-6,000 "
-            "nodes, docs/benchmarks.md), plus the contact columns"
+            f"  compressed operators (H-matrix, H-LU) for {', '.join(compressed)}: estimated "
+            "from the measured compression at their size (docs/benchmarks.md)"
         )
     return "\n".join(lines)
 

@@ -49,6 +49,11 @@ class AccuracyWarning(BemcontactWarning):
     and what to change."""
 
 
+class ResourceLimitWarning(BemcontactWarning):
+    """A solve's estimated memory comes close to what the machine has
+    available (it may be slow or be killed)."""
+
+
 class OptionalDependencyWarning(BemcontactWarning):
     """An optional dependency is not installed, so an output that was on by
     default is skipped (e.g. figures without matplotlib); the message names
@@ -64,4 +69,5 @@ __all__ = [
     "BemcontactWarning",
     "AccuracyWarning",
     "OptionalDependencyWarning",
+    "ResourceLimitWarning",
 ]

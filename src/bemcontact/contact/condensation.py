@@ -146,21 +146,28 @@ def condense(
     if progress is not None:
         progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
         progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
-    if modes is not None:
-        Gc = modes.right(Gc)
-    rhs = np.column_stack([BW[:, :S], Gc, BW[:, S:]])
-    ncol = Gc.shape[1]
+    # the right-hand sides in one Fortran-ordered block, solved in place
+    # (the largest arrays of the run: 3N x 3m each, so no copies of them)
+    ncol = dofs.size if modes is None else modes.size
+    rhs = np.empty((n, S + ncol + BW.shape[1] - S), order="F")
+    rhs[:, :S] = BW[:, :S]
+    rhs[:, S + ncol :] = BW[:, S:]
+    if modes is None:
+        rhs[:, S : S + ncol] = Gc
+    else:
+        modes.right(Gc, out=rhs[:, S : S + ncol])
     del Gc
     right = (lambda G: G) if modes is None else modes.right
     # the free modes bordered by their equilibrium rows (zero right-hand side)
     sol, _, solver_info = solve_bordered(
         A, rhs, Rf, C, backend="hlu" if compressed else "lu", linear=lin,
         exact_rhs=lambda Bs: np.column_stack([Bs @ W[:, :S], right(Bs[:, dofs]), Bs @ W[:, S:]]),
-        where=body.name,
+        where=body.name, overwrite_rhs=True,
     )
+    del rhs
     del A
     x0 = np.ascontiguousarray(sol[:n, :S])
-    X = np.ascontiguousarray(sol[:n, S : S + ncol])
+    X = sol[:n, S : S + ncol]  # a view: no copy of the largest block
     Y = np.ascontiguousarray(sol[:n, S + ncol :])
     Rf[ku] = 0.0  # exactly zero on supported dofs
     # work of the given tractions in the free modes: ∫ Rf . t_known dS

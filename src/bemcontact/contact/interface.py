@@ -223,18 +223,22 @@ class InterfaceSystem:
         m3 = 3 * self.m
         lc, ec = cols[cols < m3], cols[cols >= m3] - m3
         mc = closed.size
-        dk = np.empty((3 * mc, cols.size))
+        dk = np.empty((3 * mc, cols.size))  # dk/dz of the closed nodes
         dk[:, : lc.size] = self.K[np.ix_(cdofs, lc)]
         dk[:, lc.size :] = self._Lz[np.ix_(cdofs, ec)]
-        J = np.empty((3 * mc + self._eq.shape[0], cols.size))
-        if mc:
-            J[: 3 * mc] = np.einsum("jab,jbn->jan", Jk[closed],
-                                    dk.reshape(mc, 3, cols.size)).reshape(3 * mc, cols.size)
-            own = np.searchsorted(cols, cdofs).reshape(mc, 3)  # columns of each node's own lam
-            diag = J[: 3 * mc].reshape(mc, 3, cols.size)
-            np.add.at(diag, (np.arange(mc)[:, None, None], np.arange(3)[None, :, None],
-                             own[:, None, :]), Jl[closed])
+        # Fortran order: the LU factors it in place
+        J = np.empty((3 * mc + self._eq.shape[0], cols.size), order="F")
+        jk = Jk[closed]
+        for a in range(3):
+            rows = J[a : 3 * mc : 3]
+            np.multiply(jk[:, a, 0, None], dk[0::3], out=rows)
+            rows += jk[:, a, 1, None] * dk[1::3]
+            rows += jk[:, a, 2, None] * dk[2::3]
         del dk
+        if mc:
+            own = np.searchsorted(cols, cdofs).reshape(mc, 3)  # columns of each node's own lam
+            r = (3 * np.arange(mc)[:, None] + np.arange(3)[None, :])  # (mc, 3) rows
+            J[r[:, :, None], own[:, None, :]] += Jl[closed]
         J[3 * mc :] = self._eq[:, cols]
         return J
 

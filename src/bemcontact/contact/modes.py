@@ -66,12 +66,14 @@ class TractionModes:
         f = self.B @ lam
         return self._minv(f.reshape(3 * self.n, -1)).reshape(f.shape)
 
-    def right(self, G: np.ndarray) -> np.ndarray:
+    def right(self, G: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """G T for G (r, 3n): each row of G, a functional of the contact
         tractions, as a functional of the frame tractions (r, 3m).  M is
         symmetric, so G (M^-1 ⊗ I) = ((M^-1 ⊗ I) G^T)^T; rows in blocks of
-        :data:`CHUNK`, M factored densely up to :data:`DENSE_MASS` nodes."""
-        out = np.empty((G.shape[0], self.size))
+        :data:`CHUNK`, M factored densely up to :data:`DENSE_MASS` nodes;
+        written into ``out`` (r, 3m) if given."""
+        if out is None:
+            out = np.empty((G.shape[0], self.size))
         minv = self._minv
         if self.n <= DENSE_MASS:
             chol = scipy.linalg.cho_factor(self._M.toarray())

@@ -51,10 +51,11 @@ class SolverOptions:
     newton_steps:
         How each Newton step's linear system (the closed nodes' block of the
         generalized Jacobian) is solved: ``"lu"`` factors it in every
-        iteration; ``"reuse"`` (default) factors it when the closed set
-        changes by more than a tenth and otherwise solves by GMRES
-        preconditioned with the last factorization (inexact Newton; the same
-        converged answer, measured to 1e-15 in forces on Cattaneo–Mindlin).
+        iteration; ``"reuse"`` (default) solves it by GMRES preconditioned
+        with the last factorization while the closed set changes by at most
+        a tenth, and factors large ones in single precision as GMRES
+        preconditioner (:class:`~bemcontact.contact.newton.NewtonSteps`; the
+        same iterates, measured to 1e-15 in forces on Cattaneo–Mindlin).
     threads:
         Threads for every parallel part: the OpenMP assembly and H-matrix
         work, and BLAS/LAPACK (the condensation's LU) during the solve

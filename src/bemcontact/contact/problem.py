@@ -4,6 +4,7 @@ solve (condensation, then the generalized Newton method per load increment)."""
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -11,13 +12,14 @@ from typing import Any
 import numpy as np
 
 from ..bem.body import ElasticBody
-from ..errors import ConfigError, ConvergenceError
+from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
 from ..linalg.threads import blas_threads
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
 from .frame import ContactFrame
 from .interface import InterfaceSystem, traction_modes
+from .memory import MemoryEstimate, estimate, machine_memory
 from .newton import NewtonSteps, newton
 from .options import SolverOptions
 from .pair import ContactPair
@@ -132,6 +134,38 @@ class ContactProblem:
             )
         return self._frame
 
+    def memory_estimate(self, options: SolverOptions | None = None, steps=None) -> MemoryEstimate:
+        """Peak memory of :meth:`solve` with these ``options`` and ``steps``
+        (:mod:`bemcontact.contact.memory`), from the sizes; builds the frame."""
+        opt = options or SolverOptions()
+        steps = [LoadStep(increments=opt.load_steps)] if steps is None else list(steps)
+        states = self.states(steps)
+        frame = self.frame
+        return estimate(
+            self.bodies, [frame.nodes(a).size for a in range(2)],
+            int(np.count_nonzero(frame.active)), len(states),
+            [len(b.controls(states[0][a])) for a, b in enumerate(self.bodies)], opt.linear,
+        )
+
+    def _check_memory(self, opt, steps) -> None:
+        """Refuse a solve whose estimated peak exceeds the machine's available
+        memory by more than the estimate's uncertainty (it would be killed
+        out of memory after minutes); warn when it comes close."""
+        est = self.memory_estimate(opt, steps)
+        total, available = machine_memory()
+        if est.peak > 1.25 * available:
+            raise ConfigError(
+                f"the solve needs about {est.text()}, more than this machine's "
+                f"{available / 1e9:.1f} GB of available memory; use compressed operators "
+                "([solver.linear] method = \"hmatrix\") or smaller contact surfaces"
+            )
+        if est.peak > 0.9 * available:
+            warnings.warn(
+                f"the solve needs about {est.text()}, close to this machine's "
+                f"{available / 1e9:.1f} GB of available memory", ResourceLimitWarning,
+                stacklevel=3,
+            )
+
     def contact_modulus(self) -> float:
         """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)."""
         return 1.0 / sum(
@@ -213,6 +247,7 @@ class ContactProblem:
         if not steps:
             raise ConfigError("steps must hold at least one LoadStep")
         states = self.states(steps)
+        self._check_memory(opt, steps)
         # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
         with blas_threads(opt.threads):
             return self._solve(opt, steps, states, raise_on_failure, report)

@@ -67,6 +67,7 @@ def solve_bordered(
     exact_rhs: Callable[[np.ndarray], np.ndarray] | None = None,
     where: str = "",
     timings: dict | None = None,
+    overwrite_rhs: bool = False,
 ) -> tuple[np.ndarray, np.ndarray, dict]:
     """Solve the bordered system (module docstring) with ``backend``.
 
@@ -76,9 +77,11 @@ def solve_bordered(
     compressed backends; ``exact_rhs(B_rows)`` returns the right-hand side's
     rows for sampled exact rows of B (b = B W: ``lambda Bs: Bs @ W``), for
     that check.  ``where`` prefixes messages; ``timings`` receives the dense
-    backend's getrf seconds as ``"factor"``.  Returns ``(x, y, info)``: x
-    like ``rhs``, y (k,) or (k, s), and what the backend reports (method,
-    residuals, sizes)."""
+    backend's getrf seconds as ``"factor"``.  ``overwrite_rhs``: the dense
+    backend may solve in place over a Fortran-ordered ``rhs`` (no copy of a
+    large block of right-hand sides; x is then a view of it).  Returns
+    ``(x, y, info)``: x like ``rhs``, y (k,) or (k, s), and what the backend
+    reports (method, residuals, sizes)."""
     if backend not in BACKENDS:
         raise ConfigError(f"solve_bordered: backend must be one of {BACKENDS}, got {backend!r}")
     linear = linear or LinearSolverOptions()
@@ -87,7 +90,7 @@ def solve_bordered(
     if backend == "lu":
         if not isinstance(A, np.ndarray):
             raise ConfigError("solve_bordered: the 'lu' backend needs a dense A")
-        return _dense_lu(A, b, cols, rows, f, k, where, timings)
+        return _dense_lu(A, b, cols, rows, f, k, where, timings, overwrite_rhs)
     if isinstance(A, np.ndarray):
         raise ConfigError(f"solve_bordered: the {backend!r} backend needs compressed operators")
     n = A.n
@@ -106,7 +109,7 @@ def solve_bordered(
 # --------------------------------------------------------------------------- dense LU
 
 
-def _dense_lu(A, b, cols, rows, f, k, where, timings):
+def _dense_lu(A, b, cols, rows, f, k, where, timings, overwrite=False):
     n = A.shape[0] - k
     if b.shape[0] != n:
         raise ConfigError(f"solve_bordered: rhs has {b.shape[0]} rows, A has {n} (+ {k} border)")
@@ -115,8 +118,9 @@ def _dense_lu(A, b, cols, rows, f, k, where, timings):
         A[n:, :n] = rows
         g = np.zeros((k,) + b.shape[1:]) if f is None else np.asarray(f, dtype=float)
         b = np.concatenate([b, g]) if b.ndim == 1 else np.vstack([b, g])
+        overwrite = True  # b is a new array
     lu, piv = lu_factor_checked(A, where, timings)
-    sol, _ = scipy.linalg.lapack.dgetrs(lu, piv, b)
+    sol, _ = scipy.linalg.lapack.dgetrs(lu, piv, b, overwrite_b=overwrite)
     return sol[:n], sol[n:], {"method": "dense"}
 
 

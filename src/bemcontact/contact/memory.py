@@ -1,0 +1,119 @@
+"""Peak-memory estimate of a contact solve, from the sizes alone (before
+anything large is allocated): used by ``bemcontact check`` and by
+:meth:`~bemcontact.contact.ContactProblem.solve`, which refuses a solve that
+cannot fit in the machine's memory.
+
+The model follows the arrays the solve holds (8-byte doubles; N_a body
+nodes, n_a contact nodes, m active frame nodes, S load states):
+
+* condensation of body a: its system matrix (3N_a + 6)^2 (dense, LU in place;
+  compressed: the H-matrix and its H-LU, each the measured fraction of the
+  dense matrix at that size, docs/benchmarks.md), the dense G columns of the
+  contact dofs 3N_a x 3n_a, the right-hand-side block 3N_a x (S + 3m + controls)
+  solved in place and kept as the response X_a, the dense Cholesky factor of
+  the contact mass (n_a <= 6,000) and the blocks of :meth:`TractionModes.right`;
+  the responses of the bodies condensed before it stay;
+* Newton: the interface flexibility K (3m)^2, every body's response, and the
+  closed nodes' matrix with its kept LU and the copy of K's rows it is built
+  from (3 x (3m)^2 when every node is closed);
+* the process itself (its resident memory when the estimate is made).
+
+Measured against the peak resident memory (docs/benchmarks.md): within the
+tolerance the tests and benchmarks record.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .modes import CHUNK, DENSE_MASS
+
+#: Compressed storage as a fraction of the dense matrix against the nodes
+#: per body (benchmarks/scaling.py, eps = 1e-8, mixed precision); the H-LU's
+#: factors take about as much again (benchmarks/hlu_factor.py).
+_COMPRESSED = ((2094, 0.487), (4974, 0.264), (10014, 0.144), (20112, 0.081), (49614, 0.036))
+
+_DOUBLE = 8.0
+
+
+def _compressed_fraction(nodes: int) -> float:
+    n, f = zip(*_COMPRESSED)
+    x = np.log(max(nodes, 1))
+    return float(min(1.0, np.exp(np.interp(x, np.log(n), np.log(f),
+                                           left=np.log(f[0]) + (np.log(n[0]) - x) * 0.7,
+                                           right=None))))
+
+
+def resident_bytes() -> float:
+    """This process's resident memory now (0 where /proc is unavailable)."""
+    try:
+        with open("/proc/self/statm") as f:
+            pages = int(f.read().split()[1])
+        import os
+
+        return float(pages * os.sysconf("SC_PAGE_SIZE"))
+    except (OSError, ValueError, IndexError, AttributeError):
+        return 0.0
+
+
+def machine_memory() -> tuple[float, float]:
+    """(total, available) bytes of physical memory (/proc/meminfo; (inf,
+    inf) where it cannot be read)."""
+    try:
+        info = {}
+        with open("/proc/meminfo") as f:
+            for line in f:
+                key, _, rest = line.partition(":")
+                info[key] = float(rest.split()[0]) * 1024.0
+        return info["MemTotal"], info.get("MemAvailable", info["MemTotal"])
+    except (OSError, KeyError, ValueError, IndexError):
+        return float("inf"), float("inf")
+
+
+@dataclass
+class MemoryEstimate:
+    """Bytes at the peaks of the solve's phases; ``peak`` is the largest,
+    process included.  ``phases``: name -> bytes (``condensation <body>``,
+    ``newton``); ``process``: the resident memory when estimated."""
+
+    phases: dict = field(default_factory=dict)
+    process: float = 0.0
+
+    @property
+    def peak(self) -> float:
+        return self.process + max(self.phases.values(), default=0.0)
+
+    def text(self) -> str:
+        worst = max(self.phases, key=self.phases.get) if self.phases else "-"
+        return f"{self.peak / 1e9:.2f} GB (at the {worst})"
+
+
+def estimate(bodies, nodes, m: int, states: int, controls, linear) -> MemoryEstimate:
+    """The estimate for ``bodies`` (each with a ``discretization``),
+    ``nodes`` their contact node counts, ``m`` active frame nodes, ``states``
+    load states, ``controls`` the force-controlled components per body and
+    ``linear`` the condensation's
+    :class:`~bemcontact.linalg.LinearSolverOptions`."""
+    out = MemoryEstimate(process=resident_bytes())
+    kept = 0.0
+    m3 = 3 * m
+    for body, nc, ctl in zip(bodies, nodes, controls):
+        N3 = 3 * body.discretization.n_points
+        n3 = 3 * int(nc)
+        if linear.use_hmatrix(body.discretization.n_points):
+            system = 2.0 * _compressed_fraction(body.discretization.n_points) * N3 * N3
+        else:
+            system = float(N3 + 6) ** 2
+        response = float(N3) * (states + m3 + ctl)
+        chol = float(nc) ** 2 if nc <= DENSE_MASS else 0.0
+        blocks = 2.0 * n3 * min(CHUNK, N3) + float(min(CHUNK, N3)) * m3
+        out.phases[f"condensation of {body.name}"] = _DOUBLE * (
+            system + float(N3) * n3 + response + chol + blocks) + kept
+        kept += _DOUBLE * response
+    out.phases["newton"] = _DOUBLE * 4.0 * float(m3 + 12) ** 2 + kept
+    return out
+
+
+__all__ = ["MemoryEstimate", "estimate", "machine_memory", "resident_bytes"]

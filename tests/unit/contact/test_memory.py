@@ -1,0 +1,78 @@
+"""The peak-memory estimate (contact/memory.py) and the refusal of a solve
+that cannot fit."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import bemcontact as bc
+from bemcontact.contact import memory
+
+from .test_problem import _problem
+
+
+def test_estimate_follows_the_arrays_of_the_solve():
+    """Two blocks (dense): each condensation phase holds the system matrix,
+    the dense G columns of the contact dofs, the right-hand-side block
+    (kept as the body's response) and the contact mass's Cholesky factor;
+    the second body's phase adds the first body's response; Newton holds
+    K, the responses and the closed block with its LU and a copy of K's
+    rows.  Checked term by term against the sizes."""
+    prob = _problem()
+    est = prob.memory_estimate()
+    frame = prob.frame
+    m3 = 3 * int(frame.active.sum())
+    kept = 0.0
+    for a, b in enumerate(prob.bodies):
+        N3 = 3 * b.discretization.n_points
+        n3 = 3 * frame.nodes(a).size
+        ctl = len(b.controls(b.boundary_conditions))
+        response = N3 * (1 + m3 + ctl)
+        want = 8 * ((N3 + 6) ** 2 + N3 * n3 + response + (n3 // 3) ** 2
+                    + 2 * n3 * min(2048, N3) + min(2048, N3) * m3) + kept
+        assert est.phases[f"condensation of {b.name}"] == pytest.approx(want, rel=1e-12)
+        kept += 8 * response
+    assert est.phases["newton"] == pytest.approx(8 * 4 * (m3 + 12) ** 2 + kept, rel=1e-12)
+    assert est.peak == pytest.approx(est.process + max(est.phases.values()), rel=1e-12)
+    assert 0 < est.process < est.peak
+    assert est.text().endswith(")") and "GB" in est.text()
+
+
+def test_more_states_and_compressed_bodies_change_the_estimate():
+    prob = _problem()
+    one = prob.memory_estimate()
+    steps = [bc.LoadStep(label="P"), bc.LoadStep(label="again")]
+    two = prob.memory_estimate(steps=steps)
+    b = prob.bodies[0]
+    grow = 8 * 3 * b.discretization.n_points  # one more state column in body 1's block
+    got = two.phases[f"condensation of {b.name}"] - one.phases[f"condensation of {b.name}"]
+    assert got == pytest.approx(grow, rel=1e-12)
+    # compressed operators: a fraction of the dense matrix (system and H-LU)
+    h = bc.SolverOptions(linear=bc.LinearSolverOptions(method="hmatrix"))
+    assert prob.memory_estimate(h).phases[f"condensation of {b.name}"] != one.phases[
+        f"condensation of {b.name}"]
+    assert memory._compressed_fraction(4974) == pytest.approx(0.264, rel=1e-9)
+    assert memory._compressed_fraction(100) == 1.0
+    f = [memory._compressed_fraction(n) for n in (3000, 10000, 30000, 100000)]
+    assert np.all(np.diff(f) < 0)
+
+
+def test_a_solve_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
+    """Available memory below the estimate / 1.25: a one-line ConfigError
+    naming the estimate and the fix; just below the estimate: a warning."""
+    prob = _problem()
+    peak = prob.memory_estimate().peak
+    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (peak / 2, peak / 2))
+    with pytest.raises(bc.ConfigError, match=r"the solve needs about .* GB .*, more than this "
+                       r"machine's .* GB of available memory; use compressed operators") as exc:
+        prob.solve()
+    assert "\n" not in str(exc.value)
+    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (2 * peak, peak))
+    with pytest.warns(bc.ResourceLimitWarning, match="close to this machine's"):
+        res = prob.solve()
+    assert res.converged
+    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (8 * peak, 4 * peak))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", bc.ResourceLimitWarning)
+        prob.solve()
