@@ -266,7 +266,7 @@ class ContactProblem:
         t2 = time.perf_counter()
         system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
         t3 = time.perf_counter()
-        steps_solver = NewtonSteps(reuse=opt.newton_steps == "reuse")
+        steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
         records: list[StepRecord] = []
         history: list[ContactResult] = []
         z = system.zero()

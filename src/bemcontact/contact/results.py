@@ -95,7 +95,7 @@ class StepRecord:
     step: int = 1
     label: str = ""
     #: Newton matrices factored, and GMRES iterations of the steps solved
-    #: with a reused factorization (SolverOptions.newton_steps)
+    #: with a single-precision or reused factorization (SolverOptions.newton_steps)
     factorizations: int = 0
     krylov_iterations: int = 0
 
