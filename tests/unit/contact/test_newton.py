@@ -6,26 +6,17 @@ import numpy as np
 import pytest
 
 import bemcontact as bc
-from bemcontact.contact import interface, law
+from bemcontact.contact import law
 from bemcontact.contact.newton import NewtonSteps, newton
 
-from .test_problem import MU, P, _problem, _q
+from .test_problem import MU, P, _problem, _q, _system
 
 
 @pytest.fixture(scope="module")
 def partial_slip():
     """The two-block problem of test_problem at Q = 0.85 mu P after two
     Newton iterations (a partial-slip point), and the system."""
-    prob = _problem()
-    steps = [bc.LoadStep(label="P"), _q(0.85 * MU * P)]
-    states = prob.states(steps)
-    frame = prob.frame
-    modes = interface.traction_modes(frame)
-    cb = tuple(
-        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states], modes=modes[a])
-        for a, b in enumerate(prob.bodies)
-    )
-    system = interface.InterfaceSystem(frame, cb, MU, prob.contact_modulus())
+    system = _system(_problem(), [bc.LoadStep(label="P"), _q(0.85 * MU * P)])
     z, _, msg = newton(system, system.zero(), np.array([1.0, 0.0]), system.k_initial_t(),
                        bc.SolverOptions())
     assert msg is None

@@ -27,6 +27,21 @@ def _problem(mu=MU, nl=4, nu_=3):
     return bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", mu))
 
 
+def _system(prob, steps):
+    """The interface system of ``prob`` for the load ``steps``: both bodies
+    condensed on the frame's traction modes (what ContactProblem.solve does)."""
+    from bemcontact.contact import interface
+
+    states = prob.states(steps)
+    frame = prob.frame
+    modes = interface.traction_modes(frame)
+    cb = tuple(
+        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states], modes=modes[a])
+        for a, b in enumerate(prob.bodies)
+    )
+    return interface.InterfaceSystem(frame, cb, MU, prob.contact_modulus())
+
+
 def _q(q, p=P):
     return bc.LoadStep(
         {"upper": {"zmax": [bc.Force((q, None, -p)), bc.Displacement((None, 0.0, None))]}},
@@ -137,19 +152,10 @@ def test_newton_matrix_matches_central_differences():
     including the platen translation's) equal central differences of the
     residual at a partial-slip point, to 1e-6 of the largest entry (the
     difference step's truncation error; a wrong block is off by O(1))."""
-    from bemcontact.contact import interface, law
+    from bemcontact.contact import law
     from bemcontact.contact.newton import newton
 
-    prob = _problem()
-    steps = [bc.LoadStep(label="P"), _q(68.0)]
-    states = prob.states(steps)
-    frame = prob.frame
-    modes = interface.traction_modes(frame)
-    cb = tuple(
-        bc.condense(b, frame.nodes(a), 1, [st[a] for st in states], modes=modes[a])
-        for a, b in enumerate(prob.bodies)
-    )
-    system = interface.InterfaceSystem(frame, cb, MU, prob.contact_modulus())
+    system = _system(_problem(), [bc.LoadStep(label="P"), _q(68.0)])
     opt = bc.SolverOptions()
     z, rec, msg = newton(system, system.zero(), np.array([1.0, 0.0]), system.k_initial_t(), opt)
     assert msg is None
