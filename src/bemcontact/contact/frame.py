@@ -160,7 +160,7 @@ class ContactFrame:
         self._project_nodes()
         if rule == "collocation":
             self._collocation_coupling()
-        self._restrict()
+        self._masses()
 
     # ---------------------------------------------------------------- choices
     def _search_distance(self, given: float | None) -> float:
@@ -325,7 +325,6 @@ class ContactFrame:
         m = self.n_frame
         po = own.local[do.fconn[Eo[fo], :ko]]
         pt = oth.local[dt.fconn[Et[ft], :kt]]
-        nf = jf.shape[1]
         wN = w[:, None] * Nf  # (P, nf)
 
         def coupling(rows, phi, n_rows):
@@ -338,7 +337,6 @@ class ContactFrame:
 
         Do = coupling(po, phio, own.nodes.size)
         Dt = coupling(pt, phit, oth.nodes.size)
-        del nf
         self.weights = np.zeros(m)
         np.add.at(self.weights, jf, w[:, None] * Nf)
         self.common_area = float(w.sum())
@@ -383,7 +381,7 @@ class ContactFrame:
         np.add.at(out, self._fconn, np.repeat(area[:, None] / nc, nc, axis=1))
         return out
 
-    def _restrict(self) -> None:
+    def _masses(self) -> None:
         """The consistent mass of each body's contact surface (sparse).  Every
         node of the named surface stays a contact node, though only those
         whose support reaches the frame are coupled (nonzero rows of D): the
@@ -392,7 +390,6 @@ class ContactFrame:
         body receive exactly the frame's resultant.  Truncating the surface
         to the elements that reach the frame breaks it (measured 0.33 % on
         the flat punch's block: docs/decisions.md)."""
-        self._nodes = tuple(sf.nodes for sf in self._s)
         self.M = tuple(
             self._mass(sf.disc, sf.elements, sf.local[sf.disc.fconn[sf.elements, : sf.disc.mesh.elements.shape[1]]],
                        sf.nodes.size)
@@ -437,7 +434,7 @@ class ContactFrame:
         el, xi, _ = self.projection[a]
         own = self._s[self.owner]
         x, _, _ = element_geometry(own.disc.mesh, el, xi)
-        return self._s[a].disc.points[self._nodes[a]] - x
+        return self._s[a].disc.points[self._s[a].nodes] - x
 
     def _collocation_coupling(self) -> None:
         D = []
@@ -453,7 +450,7 @@ class ContactFrame:
     # -------------------------------------------------------------- accessors
     def nodes(self, a: int) -> np.ndarray:
         """Contact functional nodes of body a (indices into its solution)."""
-        return self._nodes[a]
+        return self._s[a].nodes
 
     def surface_elements(self, a: int) -> np.ndarray:
         return self._s[a].elements
