@@ -111,6 +111,7 @@ def bemcontact_side(a_over_h: float) -> dict:
         "newton_iterations": [x.iterations for x in res.steps],
         "factorizations": [x.factorizations for x in res.steps],
         "krylov_iterations": [x.krylov_iterations for x in res.steps],
+        "coarse_iterations": [x.coarse_iterations for x in res.steps],
         "active_frame_nodes": int(prob.frame.active.sum()),
         "stick_nodes": int((top.frame.state == law.STICK).sum()),
         "cpu_s": cpu, "wall_s": wall, "timings": res.timings,

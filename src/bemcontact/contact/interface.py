@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import scipy.sparse
 
 from ..errors import ConfigError
 from ..mesh.element import element_geometry
@@ -74,7 +75,12 @@ class InterfaceSystem:
         a = frame.weights[act]
         self.a = a
         self.area = float(a.sum())
-        self.r = r_scale / frame.size[act]  # r_n = r_t = c E*/h_j
+        self.r_scale = float(r_scale)
+        self.size = frame.size[act]
+        self.r = self.r_scale / self.size  # r_n = r_t = c E*/h_j
+        #: an aggregated system's prolongation (3m_fine, 3m) and restriction
+        #: (3m, 3m_fine) of tractions (:meth:`aggregated`); None here
+        self.prolongation = self.restriction = None
         a3 = np.repeat(a, 3)[:, None]
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
@@ -185,7 +191,52 @@ class InterfaceSystem:
         (a body held laterally only by friction would otherwise be free)."""
         gap = self.k(z, ell)[:, 2]
         first = max(float(gap.min()), 0.0) if gap.size else 0.0
-        self.mu_nodes = np.where(gap > first + 1e-8 * self.frame.size[self.act], 0.0, self.mu)
+        self.mu_nodes = np.where(gap > first + 1e-8 * self.size, 0.0, self.mu)
+
+    def aggregated(self, groups: np.ndarray) -> InterfaceSystem:
+        """The same interface system on clusters of frame nodes: one
+        traction per cluster (``groups`` (m,) the cluster of each node,
+        0..mc-1), taken by all its nodes (the prolongation P, 0 and 1), and
+        one relative displacement per cluster, the area-weighted mean of its
+        nodes' (the restriction R = diag(1/a_c) Pᵀ diag(a)); the extra
+        unknowns stay.  K_c = R K P, the affine terms and the columns of the
+        extra unknowns restricted by R, the equilibrium and resultant rows
+        taken on P lam_c (exact for a traction constant over each cluster);
+        augmentation r = r_scale / sqrt(cluster area), like a node's.  For
+        the coarse-to-fine predictor (:mod:`~bemcontact.contact.predictor`):
+        its Newton solve only (no recovery: ``act`` is None)."""
+        g = np.asarray(groups, dtype=np.int64)
+        if g.shape != (self.m,) or g.min(initial=0) < 0:
+            raise ConfigError(
+                f"aggregated: one cluster index >= 0 per frame node ({self.m}) expected")
+        mc = int(g.max(initial=-1)) + 1
+        P1 = scipy.sparse.csr_matrix((np.ones(self.m), (np.arange(self.m), g)), shape=(self.m, mc))
+        P = scipy.sparse.kron(P1, scipy.sparse.identity(3), format="csr")
+        ac = P1.T @ self.a
+        if np.any(ac <= 0.0):
+            raise ConfigError("aggregated: every cluster needs at least one frame node")
+        R = (scipy.sparse.diags(np.repeat(1.0 / ac, 3)) @ P.T
+             @ scipy.sparse.diags(np.repeat(self.a, 3))).tocsr()
+        c = object.__new__(InterfaceSystem)
+        c.frame, c.cb, c.mu, c.act, c.m = self.frame, self.cb, self.mu, None, mc
+        c.mu_nodes = np.full(mc, self.mu)
+        c.a, c.area, c.r_scale = ac, self.area, self.r_scale
+        c.size = np.sqrt(P1.T @ self.size**2)
+        c.r = c.r_scale / c.size
+        c.prolongation, c.restriction = P, R
+        c.nf, c.nc, c.CY = self.nf, self.nc, self.CY
+        RK = R @ self.K  # (3mc, 3m): K is C-ordered, read once
+        c.K = np.ascontiguousarray((P.T @ RK.T).T)
+        del RK
+        c.k0X, c.k0u = R @ self.k0X, R @ self.k0u
+        c.L = [R @ L for L in self.L]
+        c.E = [np.asarray((P.T @ E.T).T) for E in self.E]
+        c.CT = [np.asarray((P.T @ CT.T).T) for CT in self.CT]
+        c._located = {}
+        c._Lz = R @ self._Lz
+        m3 = 3 * self.m
+        c._eq = np.hstack([np.asarray((P.T @ self._eq[:, :m3].T).T), self._eq[:, m3:]])
+        return c
 
     def _rows(self, lam, parts, ell):
         """Linear equations besides the law: free-mode equilibrium and the

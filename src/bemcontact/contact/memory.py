@@ -13,9 +13,10 @@ nodes, n_a contact nodes, m active frame nodes, S load states):
   solved in place and kept as the response X_a, the dense Cholesky factor of
   the contact mass (n_a <= 6,000) and the blocks of :meth:`TractionModes.right`;
   the responses of the bodies condensed before it stay;
-* Newton: the interface flexibility K (3m)^2, every body's response, and the
+* Newton: the interface flexibility K (3m)^2, every body's response, the
   closed nodes' matrix with its kept LU and the copy of K's rows it is built
-  from (3 x (3m)^2 when every node is closed);
+  from (3 x (3m)^2 when every node is closed), and the predictor's coarse
+  flexibilities (clusters of 4 nodes: (3m)^2 (1/16 + 1/256 + ...) = (3m)^2/15);
 * the process itself (its resident memory when the estimate is made).
 
 Measured against the peak resident memory (docs/benchmarks.md): within the
@@ -112,7 +113,7 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear) -> MemoryEsti
         out.phases[f"condensation of {body.name}"] = _DOUBLE * (
             system + float(N3) * n3 + response + chol + blocks) + kept
         kept += _DOUBLE * response
-    out.phases["newton"] = _DOUBLE * 4.0 * float(m3 + 12) ** 2 + kept
+    out.phases["newton"] = _DOUBLE * (4.0 + 1.0 / 15.0) * float(m3 + 12) ** 2 + kept
     return out
 
 

@@ -56,6 +56,13 @@ class SolverOptions:
         GMRES to 1e-10 with that LU as preconditioner (1-2 iterations; the
         same iterates, forces to 1e-15 on Cattaneo–Mindlin, 15 % less Newton
         time at a/h = 25; :class:`~bemcontact.contact.newton.NewtonSteps`).
+    predictor:
+        Where each load increment's Newton iteration starts: ``"coarse"``
+        (default) from its solution on the frame aggregated into clusters of
+        about 4 nodes, recursively (:mod:`~bemcontact.contact.predictor`),
+        which brings the fronts to within a ring or two of their place;
+        ``"none"``: from the previous increment's solution.  The solution is
+        the same; frames of at most 150 active nodes have no coarse level.
     threads:
         Threads for every parallel part: the OpenMP assembly and H-matrix
         work, and BLAS/LAPACK (the condensation's LU) during the solve
@@ -96,6 +103,11 @@ class SolverOptions:
         "precision; `mixed`: large ones (>= 4,000 unknowns) in single precision, as the "
         "preconditioner of GMRES to 1e-10 (the same iterates)", default="mixed",
         choices=("lu", "mixed")))
+    predictor: str = setting(Key(
+        "predictor", "string", "`coarse`: start each load increment from its solution on the "
+        "frame aggregated into clusters of about 4 nodes (recursively; the same solution in "
+        "fewer Newton iterations on large frames); `none`: from the previous increment's",
+        default="coarse", choices=("coarse", "none")))
     threads: int | None = setting(Key(
         "threads", "integer", "threads of every parallel part: assembly and compression "
         "(OpenMP) and the LU (BLAS/LAPACK); the command line's `--threads` overrides it",

@@ -23,6 +23,7 @@ from .memory import MemoryEstimate, estimate, machine_memory
 from .newton import NewtonSteps, newton
 from .options import SolverOptions
 from .pair import ContactPair
+from .predictor import Predictor
 from .recovery import recover
 from .results import ContactResult, StepRecord
 
@@ -252,6 +253,25 @@ class ContactProblem:
         with blas_threads(opt.threads):
             return self._solve(opt, steps, states, raise_on_failure, report)
 
+    @staticmethod
+    def _increment(system, predictor, z, ell_prev, ell, k_prev, opt, report, done, total,
+                   steps_solver):
+        """One load increment by Newton, from the predictor's starting point
+        when there is one (and from ``z`` if Newton fails from it)."""
+        start, coarse = z, 0
+        if predictor is not None:
+            start = predictor.predict(z, ell_prev, ell, k_prev, opt)
+            coarse = predictor.iterations
+        znew, rec, msg = newton(system, start, ell, k_prev, opt, report, done, total, steps_solver)
+        if msg is not None and start is not z:
+            first = rec
+            znew, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total, steps_solver)
+            rec.iterations += first.iterations
+            rec.factorizations += first.factorizations
+            rec.krylov_iterations += first.krylov_iterations
+        rec.coarse_iterations = coarse
+        return znew, rec, msg
+
     def _solve(self, opt, steps, states, raise_on_failure, report) -> ContactResult:
         t0 = time.perf_counter()
         with Stopwatch(report, "frame", "contact frame"):
@@ -267,6 +287,8 @@ class ContactProblem:
         system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
         t3 = time.perf_counter()
         steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
+        predictor = (Predictor(system, frame.points[system.act])
+                     if opt.predictor == "coarse" else None)
         records: list[StepRecord] = []
         history: list[ContactResult] = []
         z = system.zero()
@@ -284,14 +306,15 @@ class ContactProblem:
             for i in range(1, step.increments + 1):
                 tau = i / step.increments
                 system.start_increment(z, ell)  # the state this increment starts from
-                ell = (1 - tau) * prev + tau * target
+                ell_prev, ell = ell, (1 - tau) * prev + tau * target
                 k_start = k_prev
                 done += 1
                 if report is not None:
                     report(ProgressEvent("increment", "newton",
                                          f"{name} increment {i}/{step.increments}",
                                          index=done, total=total))
-                z, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total, steps_solver)
+                z, rec, msg = self._increment(system, predictor, z, ell_prev, ell, k_prev, opt,
+                                              report, done, total, steps_solver)
                 rec.load_factor = tau
                 rec.step = s_ + 1
                 rec.label = step.label

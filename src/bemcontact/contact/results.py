@@ -98,6 +98,9 @@ class StepRecord:
     #: with a single-precision or reused factorization (SolverOptions.newton_steps)
     factorizations: int = 0
     krylov_iterations: int = 0
+    #: Newton iterations on the coarse levels of the predictor
+    #: (SolverOptions.predictor), besides ``iterations`` on the frame itself
+    coarse_iterations: int = 0
 
 
 @dataclass

@@ -229,7 +229,8 @@ SOLVER = Key(
     default={}, section="solver",
     keys=(
         *keys_of(SolverOptions, "tolerance", "max_iterations", "load_steps", "penalty",
-                 "line_search_sigma", "min_step", "watchdog", "newton_steps", "threads"),
+                 "line_search_sigma", "min_step", "watchdog", "newton_steps", "predictor",
+                 "threads"),
         LINEAR,
     ),
 )
