@@ -52,7 +52,7 @@ class SolverOptions:
         How each Newton step's linear system (the closed nodes' block of the
         generalized Jacobian) is solved: ``"lu"`` factors it in every
         iteration in double precision; ``"mixed"`` (default) factors blocks
-        of at least 4,000 unknowns in single precision and solves them by
+        of at least 3,000 unknowns in single precision and solves them by
         GMRES to 1e-10 with that LU as preconditioner (1-2 iterations; the
         same iterates, forces to 1e-15 on Cattaneo–Mindlin, 15 % less Newton
         time at a/h = 25; :class:`~bemcontact.contact.newton.NewtonSteps`).
@@ -100,7 +100,7 @@ class SolverOptions:
         "before returning to the best point (0: monotone line search)", default=5, lo=0))
     newton_steps: str = setting(Key(
         "newton_steps", "string", "`lu`: factor the closed nodes' Newton matrix in double "
-        "precision; `mixed`: large ones (>= 4,000 unknowns) in single precision, as the "
+        "precision; `mixed`: large ones (>= 3,000 unknowns) in single precision, as the "
         "preconditioner of GMRES to 1e-10 (the same iterates)", default="mixed",
         choices=("lu", "mixed")))
     predictor: str = setting(Key(

@@ -6,6 +6,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Mapping
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -13,7 +14,7 @@ import numpy as np
 
 from ..bem.body import ElasticBody
 from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
-from ..linalg.threads import blas_threads
+from ..linalg.threads import blas_threads, usable_threads
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
@@ -249,6 +250,9 @@ class ContactProblem:
             raise ConfigError("steps must hold at least one LoadStep")
         states = self.states(steps)
         self._check_memory(opt, steps)
+        threads = usable_threads(opt.threads)
+        if threads != opt.threads:
+            opt = dataclasses.replace(opt, threads=threads)
         # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
         with blas_threads(opt.threads):
             return self._solve(opt, steps, states, raise_on_failure, report)

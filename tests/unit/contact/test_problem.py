@@ -265,3 +265,18 @@ def test_force_pulling_a_floating_body_away_is_a_clear_error():
     prob = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", MU, search_distance=0.05))
     with pytest.raises(bc.ConvergenceError, match="pulls a body held only by the contact away"):
         prob.solve()
+
+
+def test_more_threads_than_cores_are_capped(monkeypatch):
+    """threads = 4096 (4096 threads on 2 cores ran 18x slower): one
+    ResourceLimitWarning, and the solve runs on the cores there are with the
+    answer of threads = cores (to rounding: 1e-12 of the normal force)."""
+    from bemcontact.linalg import threads
+
+    cores = threads.available_cores()
+    prob = _problem()
+    with pytest.warns(bc.ResourceLimitWarning, match="threads = 4096"):
+        many = prob.solve(bc.SolverOptions(threads=4096))
+    same = prob.solve(bc.SolverOptions(threads=cores))
+    np.testing.assert_allclose(many.contact_force, same.contact_force, rtol=0,
+                               atol=1e-12 * abs(same.normal_force))
