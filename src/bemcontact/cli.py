@@ -39,6 +39,7 @@ from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
+from .progress import terminal_text
 from .settings import MAX_THREADS
 
 EXIT_OK = 0
@@ -179,7 +180,8 @@ def _one_line_warnings(show):
 
     def showwarning(message, category, filename, lineno, file=None, line=None):
         if issubclass(category, BemcontactWarning):
-            print(f"bemcontact: warning: {' '.join(str(message).split())}", file=sys.stderr)
+            print(terminal_text(f"bemcontact: warning: {' '.join(str(message).split())}"),
+                  file=sys.stderr)
         else:
             show(message, category, filename, lineno, file, line)
 
@@ -212,7 +214,7 @@ def _check(args: argparse.Namespace) -> int:
             raise
         _error(str(exc))
         return EXIT_INPUT
-    print(text)
+    print(terminal_text(text))
     return EXIT_OK
 
 
@@ -252,7 +254,7 @@ def _mesh_info(args: argparse.Namespace) -> int:
         return EXIT_INPUT
     if problem is None:
         lines.append("  closed, consistently oriented, normals outward: usable as a body")
-    print("\n".join(lines))
+    print(terminal_text("\n".join(lines)))
     if problem is not None:
         _error(problem)
         return EXIT_INPUT
@@ -345,7 +347,7 @@ def _bench(args: argparse.Namespace) -> int:
 
 
 def _error(message: str) -> None:
-    print(f"bemcontact: error: {' '.join(str(message).split())}", file=sys.stderr)
+    print(terminal_text(f"bemcontact: error: {' '.join(str(message).split())}"), file=sys.stderr)
 
 
 def _progress(args: argparse.Namespace):
@@ -393,7 +395,7 @@ def _run(args: argparse.Namespace) -> int:
             _error(str(exc))
         return EXIT_INPUT
     if not args.quiet:
-        print(_report(problem, result, args.out, files))
+        print(terminal_text(_report(problem, result, args.out, files)))
     return EXIT_OK
 
 
@@ -427,16 +429,17 @@ def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
     r = exc.result
     if r is not None:
         for iface in r.interfaces:
-            print(f"  states at the last iterate, {iface.body}: {_counts(iface.counts())}",
+            print(terminal_text(f"  states at the last iterate, {iface.body}: "
+                                f"{_counts(iface.counts())}"),
                   file=sys.stderr)
         print(f"  states at the last iterate, frame: {_counts(r.frame.counts())}", file=sys.stderr)
     data = r if r is not None else {"converged": False}
     try:
         path = write_summary(data, out, echo, error=str(exc))
     except (BemcontactError, OSError) as werr:
-        print(f"  could not write the diagnostic summary: {werr}", file=sys.stderr)
+        print(terminal_text(f"  could not write the diagnostic summary: {werr}"), file=sys.stderr)
     else:
-        print(f"  diagnostic summary: {path}", file=sys.stderr)
+        print(terminal_text(f"  diagnostic summary: {path}"), file=sys.stderr)
     return EXIT_NOT_CONVERGED
 
 

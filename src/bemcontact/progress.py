@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import sys
 import time
+import unicodedata
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, TextIO
@@ -52,15 +53,51 @@ class ProgressEvent:
 Reporter = Callable[[ProgressEvent], Any]
 
 
+#: Longest line of text printed to the terminal (a 200,000-character key
+#: name made a 200 kB error line).
+MAX_LINE = 1000
+
+
+def _shown(ch: str) -> str:
+    # control and format characters (escape sequences, bidirectional
+    # overrides) as Python escapes; everything else as it is
+    if ch == "\t" or unicodedata.category(ch) not in ("Cc", "Cf", "Cs"):
+        return ch
+    return ascii(ch)[1:-1]
+
+
+def terminal_text(text: object, max_line: int = MAX_LINE) -> str:
+    """``text`` safe to print on a terminal: control and format characters
+    (an escape sequence in a title or region name could clear the screen)
+    shown as escapes (``\\x1b``, ``\\u202e``), and every line cut after
+    ``max_line`` characters with a note of how many more there were.
+    Newlines stay."""
+    out = []
+    for line in str(text).split("\n"):
+        more = len(line) - max_line
+        line = "".join(_shown(c) for c in line[:max_line])
+        if more > 0:
+            line += f"... ({more} more characters)"
+        out.append(line)
+    return "\n".join(out)
+
+
+def _markup(text: str) -> str:
+    """A message for rich: terminal-safe, its square brackets not markup."""
+    from rich.markup import escape
+
+    return escape(terminal_text(text, 200))
+
+
 def print_lines(event: ProgressEvent, stream: TextIO | None = None) -> None:
     """Print one line per event (stage ends, increments and iterations)."""
     out = sys.stderr if stream is None else stream
     if event.kind == "start":
-        print(f"  {event.message} ...", file=out)
+        print(terminal_text(f"  {event.message} ..."), file=out)
     elif event.kind == "end":
-        print(f"  {event.message}: {event.seconds:.2f} s", file=out)
+        print(terminal_text(f"  {event.message}: {event.seconds:.2f} s"), file=out)
     elif event.kind == "increment":
-        print(f"  {event.message}", file=out)
+        print(terminal_text(f"  {event.message}"), file=out)
     else:
         print(f"    iteration {event.iteration:3d}  residual {event.residual:.3e}", file=out)
 
@@ -114,8 +151,8 @@ class LiveProgress:
             if self._newton is None:
                 self._newton = p.add_task("load increments", total=max(event.total, 1))
             if event.kind == "increment":
-                self._increment = event.message
-                p.update(self._newton, completed=event.index - 1, description=event.message)
+                self._increment = _markup(event.message)
+                p.update(self._newton, completed=event.index - 1, description=self._increment)
             elif event.kind == "iteration":
                 p.update(
                     self._newton,
@@ -124,9 +161,9 @@ class LiveProgress:
                 )
             else:
                 p.update(self._newton, completed=event.total,
-                         description=f"{event.message} ({event.seconds:.2f} s)")
+                         description=f"{_markup(event.message)} ({event.seconds:.2f} s)")
         elif event.kind == "start":
-            self._stages[event.message] = p.add_task(event.message, total=1)
+            self._stages[event.message] = p.add_task(_markup(event.message), total=1)
         elif event.kind == "end":
             task = self._stages.pop(event.message, None)
             if task is None:
@@ -152,4 +189,5 @@ class Stopwatch:
                                       seconds=time.perf_counter() - self.t0))
 
 
-__all__ = ["ProgressEvent", "Reporter", "print_lines", "LiveProgress", "Stopwatch"]
+__all__ = ["ProgressEvent", "Reporter", "print_lines", "LiveProgress", "Stopwatch", "MAX_LINE",
+           "terminal_text"]

@@ -107,3 +107,35 @@ def test_cli_progress_modes(tmp_path, capsys):
     # not a terminal (pytest captures stderr): auto shows nothing
     assert main(["run", str(path), "--out", str(tmp_path / "b")]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_terminal_text_escapes_control_characters_and_caps_lines():
+    """Escape sequences and bidirectional overrides are shown as escapes,
+    tabs and newlines stay, and a line longer than MAX_LINE is cut with a
+    count of what was left out."""
+    from bemcontact.progress import MAX_LINE, terminal_text
+
+    assert terminal_text("a\x1b[2Jb\u202ec\td\ne\x07") == "a\\x1b[2Jb\\u202ec\td\ne\\x07"
+    assert terminal_text("Grenzfläche σ 接触") == "Grenzfläche σ 接触"
+    long = terminal_text("x" * 200_000)
+    assert long == "x" * MAX_LINE + f"... ({200_000 - MAX_LINE} more characters)"
+    two = terminal_text("y" * 1500 + "\n" + "z").split("\n")
+    assert len(two) == 2 and two[1] == "z" and two[0].endswith("(500 more characters)")
+
+
+def test_printed_user_strings_are_escaped_and_capped(tmp_path, capsys):
+    """A title holding escape sequences (they could clear the screen) is
+    shown escaped by check; an unknown key 200,000 characters long gives
+    one error line of about MAX_LINE characters, not 200 kB."""
+    from bemcontact.progress import MAX_LINE
+
+    p = problem(tmp_path)
+    p.write_text('title = "\\u001b[2J\\u001b[31mred"\n' + p.read_text())
+    assert main(["check", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "\x1b" not in out and "\\x1b[2J\\x1b[31mred" in out
+    p.write_text(p.read_text().replace("[contact]", "[contact]\n" + "k" * 200_000 + " = 1"))
+    assert main(["check", str(p)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and MAX_LINE < len(err) < MAX_LINE + 100
+    assert "more characters)" in err

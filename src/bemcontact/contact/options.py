@@ -35,8 +35,13 @@ class SolverOptions:
         non-monotonic problems.
     penalty:
         Factor c of the augmentation parameters r_n = r_t = c E*/h (E* the
-        contact modulus, h the local frame element size).  The converged
-        solution does not depend on it.
+        contact modulus, h the local frame element size), in [0.01, 100].  The
+        converged solution does not depend on it, within that range: the
+        states are judged on lam - r k, so a huge r lets round-off in k
+        decide them (c = 1e16 on the two cubes: 8 of 36 stick nodes read
+        open or slip), c = 1e6 made the line search fail on a
+        Cattaneo–Mindlin increment, and iterations grow away from 1 (sphere
+        on block: 11 at c = 1, 16-20 at c = 1e-3 and 1e3).
     line_search_sigma:
         sigma in Psi(w + a dw) <= (1 - 2 sigma a) Psi(w).
     min_step:
@@ -88,7 +93,8 @@ class SolverOptions:
         "`[[step]]` sections (friction is path dependent)", default=1, lo=1))
     penalty: float = setting(Key(
         "penalty", "number", "factor c of the augmentation parameters r = c E*/h; does not "
-        "change the converged solution", default=1.0, lo=0, lo_open=True))
+        "change the converged solution within its range (beyond it round-off decides the "
+        "contact states, or the line search fails)", default=1.0, lo=1e-2, hi=1e2))
     line_search_sigma: float = setting(Key(
         "line_search_sigma", "number", "sufficient-decrease constant of the line search",
         default=1e-4, lo=0, lo_open=True, hi=0.5, hi_open=True))

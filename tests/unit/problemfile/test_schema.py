@@ -109,7 +109,8 @@ def test_output_table_and_penalty_override(tmp_path):
         ('\n[output]\nstep = "all"\n', "output.step", "did you mean 'steps'?"),
         ('\n[output]\nsteps = "every"\n', "output.steps", "must be one of all, last"),
         ("\n[output]\nvtu = 1\n", "output.vtu", "must be true or false"),
-        ("\npenalty = 0\n", "contact.penalty", "must be > 0"),
+        ("\npenalty = 0\n", "contact.penalty", "must be in [0.01, 100]"),
+        ("\npenalty = 1e100\n", "contact.penalty", "must be in [0.01, 100]"),
     ],
 )
 def test_bad_output_and_penalty(tmp_path, addition, field, message):
