@@ -162,3 +162,52 @@ def test_box_errors():
         bc.box((0, 0, 0), (1, 1, 0))
     with pytest.raises(bc.MeshError, match="divisions must be integers >= 1"):
         bc.box(divisions=0)
+
+
+def _shells(centers, size, outward=True):
+    """Tetrahedral shells of edge ``size`` at ``centers`` as one tri3 mesh."""
+    faces = np.array([(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)])
+    if not outward:
+        faces = faces[:, ::-1]
+    corner = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    nodes = np.vstack([c + size * corner for c in centers])
+    elements = np.vstack([faces + 4 * i for i in range(len(centers))])
+    return nodes, elements
+
+
+def test_boxes_containing_equals_brute_force():
+    """The grid-indexed box search returns exactly the boxes a brute-force
+    test finds (random boxes of very different sizes, points inside and
+    outside, points on box faces)."""
+    from bemcontact.mesh.surface import _boxes_containing
+
+    rng = np.random.default_rng(7)
+    lo = rng.uniform(0, 10, (300, 3))
+    hi = lo + rng.uniform(0, 1, (300, 3)) ** 4 * 10
+    pts = np.vstack([rng.uniform(-1, 21, (200, 3)), lo[:50], hi[50:100]])
+    got = _boxes_containing(lo, hi, pts)
+    for p, g in zip(pts, got):
+        want = np.flatnonzero(np.all((lo <= p) & (p <= hi), axis=1))
+        assert np.array_equal(np.sort(g), want)
+
+
+def test_many_shells_are_checked_in_about_one_winding_number_each(monkeypatch):
+    """1,500 separate shells (1,500^2 winding numbers took 4 minutes): a
+    shell is tested only against the shells whose bounding box holds its
+    point, here none; a cavity inside a cube is still found and must point
+    inward."""
+    centers = [np.array([i % 40, (i // 40) % 40, 0.0]) * 3.0 for i in range(1500)]
+    mesh = bc.SurfaceMesh(*_shells(centers, 1.0), "tri3")
+    calls = []
+    real = bc.SurfaceMesh.winding_number
+    monkeypatch.setattr(bc.SurfaceMesh, "winding_number",
+                        lambda self, *a, **k: calls.append(1) or real(self, *a, **k))
+    assert mesh.check() is mesh and len(calls) == 0
+    # a small tetrahedral cavity inside a big one: depth 1, so it must be inward
+    n1, e1 = _shells([np.zeros(3)], 10.0)
+    n2, e2 = _shells([np.full(3, 1.0)], 1.0, outward=False)
+    nested = bc.SurfaceMesh(np.vstack([n1, n2]), np.vstack([e1, e2 + 4]), "tri3")
+    assert nested.check() is nested and len(calls) == 1
+    n2, e2 = _shells([np.full(3, 1.0)], 1.0, outward=True)
+    with pytest.raises(bc.MeshError, match="cavity surface"):
+        bc.SurfaceMesh(np.vstack([n1, n2]), np.vstack([e1, e2 + 4]), "tri3").check()
