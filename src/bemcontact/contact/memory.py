@@ -47,6 +47,15 @@ def _compressed_fraction(nodes: int) -> float:
                                            right=None))))
 
 
+def least_body_bytes(nodes: float) -> float:
+    """Bytes that any solve of a body of ``nodes`` nodes holds at least: its
+    compressed system matrix and H-LU factors (the measured compressed
+    fraction of the dense matrix at that size, the largest size's beyond).
+    Used before meshing, from an element estimate."""
+    n3 = 3.0 * float(nodes)
+    return _DOUBLE * 2.0 * _compressed_fraction(int(nodes)) * n3 * n3
+
+
 def resident_bytes() -> float:
     """This process's resident memory now (0 where /proc is unavailable)."""
     try:
@@ -117,4 +126,4 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear) -> MemoryEsti
     return out
 
 
-__all__ = ["MemoryEstimate", "estimate", "machine_memory", "resident_bytes"]
+__all__ = ["MemoryEstimate", "estimate", "least_body_bytes", "machine_memory", "resident_bytes"]

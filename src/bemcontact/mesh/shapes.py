@@ -242,6 +242,26 @@ def _ramp(fine: float, coarse: float, growth: float, start: float) -> Callable[[
     return lambda d: min(coarse, fine + growth * max(0.0, d - start))
 
 
+def element_estimate(area: float, fine_size: float, coarse_size: float, growth: float,
+                     fine_radius: float = 0.0, rim: float = 0.0) -> float:
+    """About how many triangles a mesh graded by the distance d from a point
+    (or, with ``rim`` > 0, from a circle of that radius) has on a surface of
+    ``area``, before meshing: sizes h(d) as the mesher's (``fine_size`` up to
+    ``fine_radius``, then growing by ``growth`` per unit distance up to
+    ``coarse_size``), triangles of area (√3/4) h², and the surface within
+    distance d taken as 2πd² + 4π rim d (twice a flat disc, or a band on both
+    sides of the rim) up to the whole ``area``.  An estimate from above (the
+    refined zone is counted as large as it can be), to refuse a mesh no solve
+    could hold before the mesher spends minutes on it."""
+    a4 = 4.0 * math.pi * rim
+    d_max = (-a4 + math.sqrt(a4 * a4 + 8.0 * math.pi * area)) / (4.0 * math.pi)
+    d = np.linspace(0.0, d_max, 4001)
+    mid = 0.5 * (d[1:] + d[:-1])
+    h = np.minimum(coarse_size, fine_size + growth * np.maximum(0.0, mid - fine_radius))
+    dA = (4.0 * math.pi * mid + a4) * np.diff(d)
+    return float(np.sum(dA / (math.sqrt(3.0) / 4.0 * h * h)))
+
+
 def _size_profile(name: str, knots, fine: float, coarse: float) -> list[tuple[float, float]]:
     """Checked ``size_profile`` knots: (distance, size) pairs, distances
     starting at 0 and strictly increasing, sizes within [fine, coarse]."""

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import math
 import os
 import pathlib
 import re
@@ -400,6 +401,40 @@ class _Reader(Checker):
         except BemcontactError as exc:
             self.wrap(where, exc, value)
 
+    def check_mesh_size(self, where: str, source: str, f: dict, t: dict) -> None:
+        """Refuse, before meshing, a generated mesh with more elements than
+        bemcontact accepts or than any solve of it could hold in this
+        machine's memory (:func:`~bemcontact.mesh.shapes.element_estimate`;
+        a cap with fine_size = 0.02 over its whole surface meshed for
+        minutes)."""
+        from ..contact.memory import least_body_bytes, machine_memory
+        from ..mesh.shapes import element_estimate
+
+        rim = 0.0
+        if source == "cap":
+            R, H = f["radius"], f["height"]
+            area = 2.0 * math.pi * R * H + math.pi * H * max(2.0 * R - H, 0.0)
+        elif source == "punch":
+            r, H = f["radius"], f["height"]
+            area, rim = 2.0 * math.pi * r * r + 2.0 * math.pi * r * H, r
+        else:
+            a, b, c = (hi - lo for lo, hi in zip(f["lower"], f["upper"]))
+            area = 2.0 * abs(a * b + b * c + c * a)
+        estimate = element_estimate(area, f["fine_size"], f["coarse_size"], f["growth"],
+                                    f.get("fine_radius") or 0.0, rim)
+        nodes = estimate * (2.0 if f["order"] == 2 else 0.5)
+        if estimate > MAX_ELEMENTS:
+            self.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements, more than the "
+                      f"{MAX_ELEMENTS:,} bemcontact accepts", t["fine_size"],
+                      "raise fine_size or shrink the refined zone")
+        need = least_body_bytes(nodes)
+        _, avail = machine_memory()
+        if need > 1.25 * avail:
+            self.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements "
+                      f"({nodes:.3g} nodes), whose solve needs at least {need / 1e9:.3g} GB; "
+                      f"this machine has {avail / 1e9:.3g} GB available", t["fine_size"],
+                      "raise fine_size or shrink the refined zone")
+
     def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
         """``cap``, ``punch`` or ``graded_box``: a gmsh-generated mesh."""
         from ..mesh import shapes as geometry
@@ -410,15 +445,7 @@ class _Reader(Checker):
         if f["coarse_size"] < f["fine_size"]:
             self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
                       t["coarse_size"])
-        # a cheap upper bound of the element count: the whole body at fine_size
-        extent = (
-            2.0 * f["radius"] + f["height"] if source in ("cap", "punch")
-            else max(b - a for a, b in zip(f["lower"], f["upper"]))
-        )
-        estimate = 12.0 * (extent / f["fine_size"]) ** 2
-        if estimate > 100 * MAX_ELEMENTS:
-            self.fail(f"{where}.fine_size", f"is too small for a body of size {extent:g} (about "
-                      f"{estimate:.3g} elements)", t["fine_size"])
+        self.check_mesh_size(where, source, f, t)
         if source == "cap":
             if not f["height"] < 2 * f["radius"]:
                 self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",

@@ -78,3 +78,13 @@ def test_a_solve_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("error", bc.ResourceLimitWarning)
         prob.solve()
+
+
+def test_least_body_bytes_is_the_compressed_matrix_and_its_factors():
+    """At a measured size (4,974 nodes: compressed A = 0.264 of the dense
+    matrix) the least storage is A and its H-LU, 2 x 0.264 x (3N)^2 doubles;
+    beyond the largest measured size the fraction stays at its last value."""
+    from bemcontact.contact.memory import least_body_bytes
+
+    assert least_body_bytes(4974) == pytest.approx(8 * 2 * 0.264 * (3 * 4974) ** 2, rel=1e-9)
+    assert least_body_bytes(500_000) == pytest.approx(8 * 2 * 0.036 * 1.5e6 ** 2, rel=1e-9)
