@@ -119,8 +119,21 @@ def _dense_lu(A, b, cols, rows, f, k, where, timings, overwrite=False):
         g = np.zeros((k,) + b.shape[1:]) if f is None else np.asarray(f, dtype=float)
         b = np.concatenate([b, g]) if b.ndim == 1 else np.vstack([b, g])
         overwrite = True  # b is a new array
+    # columns scaled by powers of two to a largest entry in [0.5, 1): the
+    # mixed matrix's -G columns scale as 1/mu, its H columns do not, so the
+    # condition estimate of the singularity check would depend on the units
+    # of E (E = 1e-50 read as a body free to move); exact in floating point
+    # and without effect on the pivots (partial pivoting compares entries
+    # within one column)
+    if not A.flags.f_contiguous:
+        A = np.asfortranarray(A)
+    big = np.concatenate([np.abs(A[:, j : j + 512]).max(axis=0)  # no |A| copy of A
+                          for j in range(0, A.shape[1], 512)])
+    scale = np.ldexp(1.0, -np.frexp(np.where(big > 0, big, 1.0))[1])
+    A *= scale
     lu, piv = lu_factor_checked(A, where, timings)
     sol, _ = scipy.linalg.lapack.dgetrs(lu, piv, b, overwrite_b=overwrite)
+    sol *= scale[:, None] if sol.ndim == 2 else scale
     return sol[:n], sol[n:], {"method": "dense"}
 
 

@@ -99,3 +99,22 @@ def test_force_control_uniform_compression():
     assert np.allclose(sol.displacement[i, 2], expected, rtol=1e-8)
     assert sol.reaction("zmax")[2] == pytest.approx(F, rel=1e-12)
     assert sol.reaction("zmin")[2] == pytest.approx(-F, rel=1e-8)
+
+
+@pytest.mark.parametrize("E", [1e-50, 1e50])
+def test_solution_scales_with_the_modulus(E):
+    """Clamped bottom, displacement on top: the displacements do not depend
+    on E and the tractions are proportional to it, from E = 1e-50 to 1e50
+    (the mixed matrix's -G columns scale as 1/E: unscaled, the singularity
+    check read E = 1e-50 as a body free to move).  To 1e-12: the columns are
+    scaled by powers of two, so the factorization is the same up to the
+    rounding of E itself."""
+    top = bc.Displacement((0.01, 0.0, -0.02))
+    ref = bc.ElasticBody(bc.box(divisions=2), bc.LinearElastic(1.0, 0.3),
+                         {"zmin": bc.Fixed(), "zmax": top}).solve()
+    sol = bc.ElasticBody(bc.box(divisions=2), bc.LinearElastic(E, 0.3),
+                         {"zmin": bc.Fixed(), "zmax": top}).solve()
+    np.testing.assert_allclose(sol.displacement, ref.displacement, rtol=0,
+                               atol=1e-12 * np.abs(ref.displacement).max())
+    np.testing.assert_allclose(sol.traction / E, ref.traction, rtol=0,
+                               atol=1e-12 * np.abs(ref.traction).max())
