@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from .._native import core
 from ..bem.body import ElasticBody
 from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
 from ..linalg.threads import blas_threads, usable_threads
@@ -343,6 +344,7 @@ class ContactProblem:
         result.label = steps[len(history) if failed else -1].label
         result.history = history if S > 1 else [result]
         result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}
+        result.threads = opt.threads if opt.threads is not None else core().max_threads()
         result.timings = {
             "frame": t1 - t0,
             "assembly": sum(c.timings["assembly"] for c in cb),

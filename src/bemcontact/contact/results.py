@@ -128,6 +128,7 @@ class ContactResult:
     linear: body name -> how its system was solved (``method`` "dense" or
         "hmatrix"; for compressed operators also sizes in MB, seconds, the
         H-LU residual and the sampled exact residual).
+    threads: the threads the solve ran on (OpenMP and BLAS).
     """
 
     converged: bool
@@ -145,6 +146,7 @@ class ContactResult:
     label: str = ""
     history: list = field(default_factory=list)
     linear: dict = field(default_factory=dict)
+    threads: int | None = None
 
     def reactions(self) -> dict[str, dict[str, np.ndarray]]:
         """Body name -> region -> resultant force (3,) the surroundings
@@ -192,6 +194,7 @@ class ContactResult:
             ],
             "timings": {k: float(v) for k, v in self.timings.items()},
             "linear": self.linear,
+            "threads": self.threads,
         }
 
 

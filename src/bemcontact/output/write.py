@@ -123,6 +123,7 @@ def summary(
         )
     s["version"] = __version__
     s["versions"] = _versions()
+    s["provenance"] = provenance()
     if problem_echo is not None:
         s["problem"] = dict(problem_echo)
     if error is not None:
@@ -131,8 +132,10 @@ def summary(
 
 
 def _versions() -> dict[str, str]:
-    """Versions of bemcontact, Python and the numerical libraries."""
+    """Versions of bemcontact, Python, the numerical libraries and of the
+    optional ones this run used (gmsh, matplotlib: those imported)."""
     import platform
+    import sys
 
     import scipy
 
@@ -146,6 +149,66 @@ def _versions() -> dict[str, str]:
         out["meshio"] = meshio.__version__
     except (ImportError, AttributeError):  # pragma: no cover - meshio is a dependency
         pass
+    for name, attr in (("gmsh", "__version__"), ("matplotlib", "__version__")):
+        mod = sys.modules.get(name)
+        if mod is not None and isinstance(getattr(mod, attr, None), str):
+            out[name] = getattr(mod, attr)
+    return out
+
+
+def _cpu() -> str:
+    import platform
+
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.partition(":")[2].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
+def _commit() -> str | None:
+    """The git commit of bemcontact's source tree when it runs from one (an
+    editable install of a clone; None for an installed wheel)."""
+    import subprocess
+
+    src = pathlib.Path(__file__).resolve().parents[1]
+    try:
+        top = subprocess.run(["git", "-C", str(src), "rev-parse", "--show-toplevel", "HEAD"],
+                             capture_output=True, text=True, timeout=5)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    lines = top.stdout.split()
+    if top.returncode != 0 or len(lines) != 2:
+        return None
+    # the tree must be bemcontact's own (a venv inside another repository is not)
+    if pathlib.Path(lines[0], "src", "bemcontact").resolve() != src:
+        return None
+    dirty = subprocess.run(["git", "-C", lines[0], "status", "--porcelain", "--untracked-files=no"],
+                           capture_output=True, text=True, timeout=5)
+    return lines[1] + ("-modified" if dirty.returncode == 0 and dirty.stdout.strip() else "")
+
+
+def provenance() -> dict[str, Any]:
+    """Where and how a run was made: platform, CPU, cores, the compiled
+    core's build (native or portable, compiler, flags, OpenMP), the git
+    commit of the source when available."""
+    import platform
+
+    from .._native import core
+    from ..linalg.threads import available_cores
+
+    out: dict[str, Any] = {"platform": platform.platform(), "cpu": _cpu(),
+                           "cores": available_cores()}
+    try:
+        out["build"] = dict(core().build_info())
+    except Exception:  # noqa: BLE001 - provenance never fails a run
+        pass
+    commit = _commit()
+    if commit:
+        out["commit"] = commit
     return out
 
 

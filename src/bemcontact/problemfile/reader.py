@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import hashlib
 import math
 import os
 import pathlib
@@ -90,8 +91,10 @@ class ProblemFile:
         ``[[step]]`` sections (empty: one step to the bodies' conditions).
     output: the :class:`~bemcontact.output.write.OutputOptions` of the ``[output]``
         table (which files ``bemcontact run`` writes).
-    echo: ``{"file": str(path), **content}``, the file's content as written
-        (JSON-ready; written into ``summary.json``).
+    echo: ``{"file": str(path), **content, "sha256": {...}}``, the file's
+        content as written and the SHA-256 of the problem file
+        (``"problem"``) and of every mesh file it names (by the name it
+        gives) (JSON-ready; written into ``summary.json``).
     """
 
     path: pathlib.Path
@@ -189,9 +192,20 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
             f"{src}: cannot read the problem file: {exc.strerror or exc}"
         ) from None
     try:
-        return _Reader(src, p.parent).problem(p, content, check_overlap)
+        reader = _Reader(src, p.parent)
+        problem = reader.problem(p, content, check_overlap)
     except RecursionError:
         raise ConfigError(f"{src}: tables or arrays nested too deeply to be a problem file") from None
+    problem.echo["sha256"] = {"problem": hashlib.sha256(data).hexdigest(), **reader.hashes}
+    return problem
+
+
+def _sha256(path: pathlib.Path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
 
 
 class _Reader(Checker):
@@ -199,6 +213,11 @@ class _Reader(Checker):
 
     #: Figures on by default were turned off (no matplotlib).
     figures_skipped = False
+
+    def __init__(self, src: str, base: pathlib.Path) -> None:
+        super().__init__(src, base)
+        #: mesh file (as named in the problem file) -> SHA-256 of its content
+        self.hashes: dict[str, str] = {}
 
     # --------------------------------------------------------------- sections
     def problem(self, path: pathlib.Path, content: dict, check_overlap: bool) -> ProblemFile:
@@ -380,7 +399,9 @@ class _Reader(Checker):
         except ConfigError as exc:
             self.fail(fwhere, one_line(str(exc)).removeprefix(f"{full}: "), name)
         try:
-            return read_mesh(full, etype)
+            mesh = read_mesh(full, etype)
+            self.hashes[name] = _sha256(full)
+            return mesh
         except BemcontactError as exc:
             text = one_line(str(exc))
             if text.startswith(f"{full}: "):

@@ -7,6 +7,7 @@ import csv
 import dataclasses
 import json
 import math
+import pathlib
 import sys
 
 import meshio
@@ -338,3 +339,41 @@ def test_frame_tractions_png(written):
     out, _ = written
     with Image.open(out / "frame_tractions.png") as img:
         assert img.format == "PNG" and img.size[0] > 1000
+
+
+def test_summary_records_provenance(written, result):
+    """summary.json says where and how the run was made: platform, CPU,
+    cores, the compiled core's build, the threads of the solve and the
+    versions of the optional libraries it used."""
+    from bemcontact._native import core
+    from bemcontact.linalg.threads import available_cores
+
+    s = json.loads((written[0] / "summary.json").read_text())
+    p = s["provenance"]
+    assert p["cores"] == available_cores() and p["cpu"] and p["platform"]
+    assert p["build"]["native"] == core().build_info()["native"]
+    assert "commit" not in p or len(p["commit"].split("-")[0]) == 40
+    assert s["threads"] == result.threads >= 1
+    if "matplotlib" in sys.modules:
+        assert s["versions"]["matplotlib"] == sys.modules["matplotlib"].__version__
+
+
+def test_problem_file_and_mesh_hashes(tmp_path):
+    """The problem echo holds the SHA-256 of the problem file and of each
+    mesh file it names (by the name it gives); a changed mesh changes it."""
+    import hashlib
+    import shutil
+
+    from bemcontact.problemfile.reader import load_problem
+
+    root = pathlib.Path(__file__).resolve().parents[3] / "examples"
+    shutil.copy(root / "block_from_mesh_file.toml", tmp_path)
+    shutil.copytree(root / "meshes", tmp_path / "meshes")
+    src = tmp_path / "block_from_mesh_file.toml"
+    h = load_problem(src, check_overlap=False).echo["sha256"]
+    mesh = tmp_path / "meshes" / "block.msh"
+    assert h == {"problem": hashlib.sha256(src.read_bytes()).hexdigest(),
+                 "meshes/block.msh": hashlib.sha256(mesh.read_bytes()).hexdigest()}
+    mesh.write_bytes(mesh.read_bytes() + b"\n")
+    assert load_problem(src, check_overlap=False).echo["sha256"]["meshes/block.msh"] != \
+        h["meshes/block.msh"]
