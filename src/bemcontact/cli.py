@@ -281,7 +281,7 @@ def _describe(problem) -> str:
         counts = np.bincount(d.region, minlength=len(mesh.region_names))
         for r, name in enumerate(mesh.region_names):
             conds = body.boundary_conditions.get(name, ())
-            what = "; ".join(repr(c) for c in conds) if conds else "traction free"
+            what = "; ".join(_condition(c) for c in conds) if conds else "traction free"
             if name == (problem.pair.surface1 if a == 0 else problem.pair.surface2):
                 what = f"contact surface ({nc} candidate nodes)"
             lines.append(f"    region {name}: {counts[r]} nodes, {what}")
@@ -408,12 +408,14 @@ def _report(problem, result, out: pathlib.Path, files) -> str:
     unit = f" {force}" if force else ""
     steps = len(result.history)
     increments = len(result.steps)
+    # forces below what the Newton tolerance resolves are round-off, not results
+    floor = 10.0 * problem.options.tolerance * float(np.linalg.norm(result.contact_force))
     lines = [
         f"{problem.path}: converged in {result.newton_iterations} Newton iteration(s), "
         f"{steps} load step(s) in {increments} increment(s), "
         f"{result.timings.get('total', 0.0):.2f} s",
-        f"  normal force      {result.normal_force:.6g}{unit}",
-        f"  tangential force  {result.tangential_force:.6g}{unit}",
+        f"  normal force      {_force(result.normal_force, floor, unit)}",
+        f"  tangential force  {_force(result.tangential_force, floor, unit)}",
     ]
     for iface in result.interfaces:
         lines.append(
@@ -422,6 +424,28 @@ def _report(problem, result, out: pathlib.Path, files) -> str:
     lines.append(f"  frame ({result.frame.state.size} nodes): {_counts(result.frame.counts())}")
     lines.append(f"results in {out}: " + ", ".join(f.name for f in files))
     return "\n".join(lines)
+
+
+def _condition(c) -> str:
+    """A boundary condition as the problem file writes it: ``displacement
+    [0, free, -0.01]``, ``pressure 2``, ``force [free, 0, -400]``."""
+    name = type(c).__name__.lower()
+    if hasattr(c, "pressure"):
+        return f"{name} {c.pressure:g}"
+    value = getattr(c, "value", None)
+    if callable(value):
+        return f"{name} (a function of position)"
+    try:
+        return f"{name} [" + ", ".join("free" if v is None else f"{v:g}" for v in value) + "]"
+    except (TypeError, ValueError):
+        return name
+
+
+def _force(value: float, floor: float, unit: str) -> str:
+    """A force for the summary: 0 with the resolution when it is below it."""
+    if abs(value) <= floor:
+        return f"0{unit} (below the solve's resolution, {floor:.1g}{unit})"
+    return f"{value:.6g}{unit}"
 
 
 def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:

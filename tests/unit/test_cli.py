@@ -416,3 +416,27 @@ def test_gmsh_mesh_without_gmsh_is_one_error_line(capsys, monkeypatch):
         'mesh, which is not installed; pip install "bemcontact[gmsh]", or give the mesh as a file'
     )]
     assert captured.out == ""
+
+
+def test_summary_prints_round_off_forces_as_zero_and_conditions_as_written(tmp_path, capsys):
+    """The tiny problem pushes straight down: its tangential force is
+    round-off (~1e-13 of the normal force), printed as 0 with the solve's
+    resolution (10 x tolerance x |contact force|); a sideways push prints
+    its number.  check shows conditions as the problem file writes them,
+    not Python reprs."""
+    src = problem(tmp_path)
+    assert main(["run", str(src), "--out", str(tmp_path / "a")]) == 0
+    out = capsys.readouterr().out
+    s = json.loads((tmp_path / "a" / "summary.json").read_text())
+    floor = 10 * 1e-10 * np.linalg.norm(s["contact_force"])
+    assert abs(s["tangential_force"]) <= floor
+    assert f"tangential force  0 N (below the solve's resolution, {floor:.1g} N)" in out
+    side = problem(tmp_path, top="[0.002, 0, -0.04]", mu="0.5")
+    assert main(["run", str(side), "--out", str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out
+    t = json.loads((tmp_path / "b" / "summary.json").read_text())["tangential_force"]
+    assert f"tangential force  {t:.6g} N" in out and abs(t) > 1.0
+    assert main(["check", str(side)]) == 0
+    out = capsys.readouterr().out
+    assert "region zmax: " in out and "displacement [0.002, 0, -0.04]" in out
+    assert "Displacement(" not in out
