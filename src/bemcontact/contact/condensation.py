@@ -80,7 +80,7 @@ class CondensedBody:
 def condense(
     body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
     progress: Reporter | None = None, linear: LinearSolverOptions | None = None,
-    modes=None,
+    modes=None, *, load_fields: np.ndarray | None = None,
 ) -> CondensedBody:
     """Assemble the body's BEM system once, factor it, and solve for the
     response to unit tractions at each contact dof (``nodes``: the contact
@@ -108,6 +108,10 @@ def condense(
     forces = np.array([[c.force for c in body.controls(st)] for st in states]).reshape(
         len(states), len(controls)
     ).T
+    if load_fields is not None:
+        values = np.asarray(load_fields, dtype=float).reshape(3 * d.n_points, -1)
+        forces = np.zeros((len(controls), values.shape[1]))
+        states = [states[0]] * values.shape[1]
     dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
     if known_u[dofs].any() or np.any(values[dofs] != 0):
         raise ConfigError(

@@ -28,6 +28,7 @@ from .pair import ContactPair
 from .predictor import Predictor
 from .recovery import recover
 from .results import ContactResult, StepRecord
+from .reuse import Condensation, CondenseBody, condense_problem
 
 
 # --------------------------------------------------------------------------- load steps
@@ -222,6 +223,7 @@ class ContactProblem:
         steps=None,
         raise_on_failure: bool = True,
         progress: Reporter | None = None,
+        condensed: Condensation | None = None,
     ) -> ContactResult:
         """Condense both bodies, then run the generalized Newton method for
         each increment of the loading history.
@@ -237,7 +239,14 @@ class ContactProblem:
         ``progress``: a callable receiving :class:`~bemcontact.progress.ProgressEvent` objects
         (stages, load increments, Newton iterations), e.g.
         :class:`~bemcontact.progress.LiveProgress`; default
-        :func:`~bemcontact.progress.print_lines` if ``options.progress``, else none."""
+        :func:`~bemcontact.progress.print_lines` if ``options.progress``, else none.
+
+        ``condensed``: a :class:`~bemcontact.contact.reuse.Condensation` of
+        these bodies (:meth:`condense`, possibly of another problem object
+        with the same meshes, materials, frame and kinds of condition): the
+        solve reuses its condensed operators, so only the friction, the
+        penalty, the load values and history and the Newton options may
+        differ (ConfigError otherwise)."""
         opt = options or SolverOptions()
         if not isinstance(opt, SolverOptions):
             raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
@@ -250,13 +259,48 @@ class ContactProblem:
         if not steps:
             raise ConfigError("steps must hold at least one LoadStep")
         states = self.states(steps)
+        if condensed is not None:
+            self._reuse(condensed, opt)
         self._check_memory(opt, steps)
         threads = usable_threads(opt.threads)
         if threads != opt.threads:
             opt = dataclasses.replace(opt, threads=threads)
         # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
         with blas_threads(opt.threads):
-            return self._solve(opt, steps, states, raise_on_failure, report)
+            return self._solve(opt, steps, states, raise_on_failure, report, condensed)
+
+    # ---------------------------------------------------------- re-solves (issue 27)
+    def condense(
+        self, options: SolverOptions | None = None, *, steps=None,
+        progress: Reporter | None = None, condense_body: CondenseBody | None = None,
+    ) -> Condensation:
+        """Build the frame and condense both bodies once, on a basis of load
+        fields (:mod:`bemcontact.contact.reuse`), for :meth:`solve` with
+        ``condensed=``: re-solves with another friction coefficient
+        (a problem with the same bodies and a pair differing only in
+        it), penalty, load values or history (``steps``; the same kinds of
+        condition) or Newton options, without assembling or factoring.
+        ``options.linear`` and ``options.threads`` are the condensation's;
+        ``steps`` (default: the bodies' own conditions) the states whose
+        kinds and function-valued loads it must cover.  ``condense_body``
+        stands in for :func:`~bemcontact.contact.condense` (a cache)."""
+        opt = options or SolverOptions()
+        if not isinstance(opt, SolverOptions):
+            raise ConfigError(f"options must be SolverOptions, got {type(opt).__name__}")
+        steps = [LoadStep(increments=opt.load_steps)] if steps is None else list(steps)
+        states = self.states(steps)
+        self._check_memory(opt, steps)
+        threads = usable_threads(opt.threads)
+        with blas_threads(threads):
+            return condense_problem(self.bodies, self.pair, self.frame, states, threads,
+                                    opt.linear, progress, condense_body)
+
+    def _reuse(self, condensed: Condensation, opt: SolverOptions) -> None:
+        """Check that ``condensed`` fits this problem and take its frame."""
+        if not isinstance(condensed, Condensation):
+            raise ConfigError(f"condensed must be a Condensation, got {type(condensed).__name__}")
+        condensed.check(self.bodies, self.pair, opt.linear)
+        self._frame = condensed.frame
 
     @staticmethod
     def _increment(system, predictor, z, ell_prev, ell, k_prev, opt, report, done, total,
@@ -277,17 +321,21 @@ class ContactProblem:
         rec.coarse_iterations = coarse
         return znew, rec, msg
 
-    def _solve(self, opt, steps, states, raise_on_failure, report) -> ContactResult:
+    def _solve(self, opt, steps, states, raise_on_failure, report,
+               condensed=None) -> ContactResult:
         t0 = time.perf_counter()
         with Stopwatch(report, "frame", "contact frame"):
             frame = self.frame
         t1 = time.perf_counter()
-        modes = traction_modes(frame)
-        cb = tuple(
-            condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report, opt.linear,
-                     modes[a])
-            for a, b in enumerate(self.bodies)
-        )
+        if condensed is not None:
+            cb = condensed.bodies_for(self.bodies, states)
+        else:
+            modes = traction_modes(frame)
+            cb = tuple(
+                condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report,
+                         opt.linear, modes[a])
+                for a, b in enumerate(self.bodies)
+            )
         t2 = time.perf_counter()
         system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
         t3 = time.perf_counter()
