@@ -11,6 +11,7 @@ rebuilt.
 from __future__ import annotations
 
 import json
+import math
 import os
 import pathlib
 from collections.abc import Mapping
@@ -198,29 +199,80 @@ def save_png(fig, path: str | os.PathLike) -> pathlib.Path:
     return out
 
 
+def _suffix(unit: str) -> str:
+    return f" ({unit})" if unit else ""
+
+
+def _closed_center(xy: np.ndarray, frame: FrameResult) -> np.ndarray:
+    """The pressure-weighted centroid of the closed nodes (plane coordinates)."""
+    closed = frame.state > 0
+    load = frame.weights * np.maximum(frame.pressure, 0.0)
+    w = np.where(closed & np.isfinite(frame.pressure), load, 0.0)
+    if not w.sum() > 0:
+        w = closed.astype(float)
+    return (w[:, None] * xy).sum(axis=0) / w.sum()
+
+
+def axisymmetry(frame: FrameResult, min_nodes: int = 12) -> tuple[np.ndarray, float] | None:
+    """Whether the contact on ``frame`` is axisymmetric: (centre, scatter) or
+    None if fewer than ``min_nodes`` nodes are closed.
+
+    centre: the pressure-weighted centroid of the closed nodes in the frame's
+    plane coordinates (those of :func:`plot_frame_tractions`).  scatter: the
+    RMS deviation of the closed nodes' pressure from its mean over rings of
+    equal node count (about 8 nodes each, ordered by the distance r from the
+    centre), divided by the peak pressure, plus the relative excess of the
+    closed zone's largest r over the radius of the disc of its area (0 for
+    a disc, 0.25 for a square).  :data:`AXISYMMETRIC_SCATTER` separates a
+    sphere on a block (0.07 at h = a / 4) from the two cubes' square
+    contact (0.26)."""
+    closed = (frame.state > 0) & np.isfinite(frame.pressure)
+    if closed.sum() < min_nodes:
+        return None
+    xy, _, _ = _plane_coordinates(frame.points, frame.normals)
+    c = _closed_center(xy, frame)
+    r = np.hypot(*(xy[closed] - c).T)
+    p = frame.pressure[closed][np.argsort(r)]
+    rings = np.array_split(p, max(3, p.size // 8))
+    dev = np.concatenate([ring - ring.mean() for ring in rings])
+    peak = float(np.abs(p).max()) or 1.0
+    disc = math.sqrt(float(frame.weights[closed].sum()) / math.pi)
+    excess = max(0.0, float(r.max()) / disc - 1.0) if disc > 0 else 1.0
+    return c, float(np.sqrt(np.mean(dev**2))) / peak + excess
+
+
+#: Largest :func:`axisymmetry` scatter of a contact drawn as a radial profile.
+AXISYMMETRIC_SCATTER = 0.15
+
+
 def plot_radial_profile(
     source: ContactResult | FrameResult,
     path: str | os.PathLike,
     *,
     pressure=None,
     traction=None,
-    component: int = 0,
+    component: int | None = 0,
     center=(0.0, 0.0),
     title: str = "",
     length_unit: str = "mm",
     stress_unit: str = "MPa",
 ) -> pathlib.Path:
     """Contact pressure and tangential traction at the frame nodes against
-    their distance r from ``center`` (in the x-y plane), with analytic curves.
+    their distance r from ``center`` (in the frame's plane: x-y for a frame
+    normal to z; ``None``: the closed nodes' pressure-weighted centroid),
+    with analytic curves.
 
     ``pressure`` and ``traction``: optional callables r -> analytic values
     (e.g. ``reference.hertz(...).pressure`` and a Cattaneo–Mindlin traction),
     drawn as lines over the plotted range.  The traction plotted is the
     ``component`` (0: x, 1: y) of the traction on body 1 (the frame's
     tangential traction acts on body 2; body 1 receives the opposite), so a
-    tangential force pulling body 2 in +x shows positive.  Nodes are marked
-    by state (stick, slip); open nodes beyond the contact are left out.
-    Writes a PNG to ``path`` and returns it."""
+    tangential force pulling body 2 in +x shows positive; ``None``: its
+    magnitude |q|.  Nodes are marked by state (stick, slip, open); r runs
+    to 1.3 times the largest r of a closed node.  Without friction (|q|
+    below 1e-6 of the peak pressure and no ``traction`` curve) the traction
+    panel, which would be flat zero, is left out.  Units label the axes
+    (``""``: none).  Writes a PNG to ``path`` and returns it."""
     from matplotlib.figure import Figure
 
     from ..contact.law import SLIP, STICK
@@ -230,29 +282,37 @@ def plot_radial_profile(
         raise ConfigError(
             f"plot_radial_profile: expected a ContactResult or FrameResult, got {type(source).__name__}"
         )
-    if component not in (0, 1):
-        raise ConfigError(f"component must be 0 or 1 (x, y), got {component!r}")
-    r = np.hypot(frame.points[:, 0] - center[0], frame.points[:, 1] - center[1])
+    if component not in (0, 1, None):
+        raise ConfigError(f"component must be 0 or 1 (x, y) or None (|q|), got {component!r}")
     closed = frame.state > 0
     if not closed.any():
         raise ConfigError("plot_radial_profile: no frame node is in contact")
-    rmax = 1.15 * r[closed].max()
+    xy, _, _ = _plane_coordinates(frame.points, frame.normals)
+    c = _closed_center(xy, frame) if center is None else np.asarray(center, dtype=float)
+    r = np.hypot(xy[:, 0] - c[0], xy[:, 1] - c[1])
+    rmax = 1.3 * r[closed].max()
     shown = r <= rmax
     grid = np.linspace(0.0, rmax, 400)
-    q = -frame.tangential_traction[:, component]
-    panels = [("pressure", frame.pressure, pressure, "$p$"),
-              ("traction", q, traction, f"$q_{'xy'[component]}$ on body 1")]
-    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
-    axes = fig.subplots(1, 2)
-    for ax, (name, values, exact, label) in zip(axes, panels):
+    if component is None:
+        q, qlabel = np.linalg.norm(frame.tangential_traction, axis=1), "$|q|$"
+    else:
+        q, qlabel = -frame.tangential_traction[:, component], f"$q_{'xy'[component]}$ on body 1"
+    panels = [(frame.pressure, pressure, "pressure $p$")]
+    peak = float(np.nanmax(np.abs(frame.pressure[closed]))) if closed.any() else 0.0
+    if traction is not None or np.nanmax(np.abs(q)) > 1e-6 * peak:
+        panels.append((q, traction, qlabel))
+    fig = Figure(figsize=(5.0 * len(panels), 4.0), layout="constrained")
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    for ax, (values, exact, label) in zip(axes, panels):
         for st, marker, lab in ((STICK, "o", "stick"), (SLIP, "^", "slip"), (0, "x", "open")):
             m = shown & (frame.state == st)
             if m.any():
                 ax.plot(r[m], values[m], marker, markersize=3, linestyle="none", label=lab)
         if exact is not None:
             ax.plot(grid, np.asarray(exact(grid), dtype=float), "k-", linewidth=1.2, label="analytic")
-        ax.set_xlabel(f"r ({length_unit})")
-        ax.set_ylabel(f"{label} ({stress_unit})")
+        ax.set_xlim(0.0, rmax)
+        ax.set_xlabel("r" + _suffix(length_unit))
+        ax.set_ylabel(label + _suffix(stress_unit))
         ax.grid(True, alpha=0.3)
         ax.legend()
     if title:
@@ -318,68 +378,161 @@ def _plane_coordinates(points: np.ndarray, normals: np.ndarray) -> tuple[np.ndar
     return np.column_stack([points @ e1, points @ e2]), "s", "t"
 
 
-def plot_frame_tractions(
-    source: ContactResult,
-    path: str | os.PathLike,
-    *,
-    cells=None,
-    length_unit: str = "",
-    stress_unit: str = "",
-) -> pathlib.Path:
-    """Maps of the contact pressure and of the tangential traction magnitude
-    on the contact frame (the contact law's nodes), seen along the frame's
-    mean normal, with the nodes' states (stick ``o``, slip ``^``) marked.
+def contact_window(xy: np.ndarray, state: np.ndarray, weights: np.ndarray,
+                   margin: float = 0.25) -> tuple[float, float, float, float]:
+    """The part of the frame plane a map shows, (xmin, xmax, ymin, ymax):
+    the closed nodes' bounding box widened on each side by ``margin`` times
+    its larger side (at least two node spacings), within the frame's
+    bounding box; the whole frame when no node is closed."""
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    closed = state > 0
+    if not closed.any():
+        return float(lo[0]), float(hi[0]), float(lo[1]), float(hi[1])
+    clo, chi = xy[closed].min(axis=0), xy[closed].max(axis=0)
+    spacing = 2.0 * math.sqrt(float(np.median(weights[closed]))) if weights.size else 0.0
+    pad = max(margin * float((chi - clo).max()), spacing)
+    wlo, whi = np.maximum(clo - pad, lo), np.minimum(chi + pad, hi)
+    return float(wlo[0]), float(whi[0]), float(wlo[1]), float(whi[1])
 
-    ``cells``: the frame's elements as meshio-style ``[(kind, conn)]``
-    (``io`` passes them); the fields are then drawn over the elements
-    (linear interpolation on their triangles), otherwise as coloured nodes.
-    Writes a PNG to ``path`` and returns it."""
-    from matplotlib.figure import Figure
+
+def _triangulation(xy: np.ndarray, cells):
+    """The frame's triangles (its cells, quads split) or a Delaunay
+    triangulation of its nodes; None for fewer than 3 nodes in a line."""
     from matplotlib.tri import Triangulation
 
-    from ..contact.law import SLIP, STICK
-
-    if not isinstance(source, ContactResult):
-        raise ConfigError(
-            f"plot_frame_tractions: expected a ContactResult, got {type(source).__name__}"
-        )
-    fr = source.frame
-    xy, lx, ly = _plane_coordinates(fr.points, fr.normals)
-    tri = None
     if cells:
         kind, conn = cells[0]
         conn = np.asarray(conn)
         if kind == "quad":
             conn = np.vstack([conn[:, [0, 1, 2]], conn[:, [0, 2, 3]]])
         if kind in ("quad", "triangle") and conn.size:
-            tri = Triangulation(xy[:, 0], xy[:, 1], conn)
-    q = np.linalg.norm(fr.tangential_traction, axis=1)
-    lu = f" ({length_unit})" if length_unit else ""
-    su = f" ({stress_unit})" if stress_unit else ""
-    fig = Figure(figsize=(10.0, 4.4), layout="constrained")
-    axes = fig.subplots(1, 2)
-    for ax, values, label in zip(axes, (fr.pressure, q), ("contact pressure p", "|q| tangential")):
-        v = np.where(np.isfinite(values), values, 0.0)
-        if tri is not None:
-            art = ax.tripcolor(tri, v, shading="gouraud", cmap="viridis")
+            return Triangulation(xy[:, 0], xy[:, 1], conn)
+    try:
+        return Triangulation(xy[:, 0], xy[:, 1])
+    except (ValueError, RuntimeError):
+        return None
+
+
+#: Outline styles of :func:`plot_frame_tractions`: the contact zone's edge
+#: (closed inside) and the stick zone's edge (stick inside, slip outside).
+CONTACT_EDGE = {"colors": "white", "linewidths": 1.6, "linestyles": "solid"}
+STICK_EDGE = {"colors": "#ff3030", "linewidths": 1.4, "linestyles": "dashed"}
+
+
+def frame_tractions_figure(
+    source: ContactResult | FrameResult,
+    *,
+    cells=None,
+    length_unit: str = "",
+    stress_unit: str = "",
+    force_unit: str = "",
+    margin: float = 0.25,
+):
+    """The figure of :func:`plot_frame_tractions` (a matplotlib ``Figure``,
+    150 dpi), e.g. to be measured or changed before saving."""
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+
+    from ..contact.law import SLIP, STICK
+
+    if isinstance(source, ContactResult):
+        fr = source.frame
+    elif isinstance(source, FrameResult):
+        fr = source
+    else:
+        raise ConfigError(
+            "plot_frame_tractions: expected a ContactResult or FrameResult, got "
+            f"{type(source).__name__}"
+        )
+    xy, lx, ly = _plane_coordinates(fr.points, fr.normals)
+    tri = _triangulation(xy, cells)
+    closed = fr.state > 0
+    p = np.where(np.isfinite(fr.pressure), fr.pressure, 0.0)
+    tt = fr.tangential_traction
+    q = np.linalg.norm(np.where(np.isfinite(tt), tt, 0.0), axis=1)
+    peak = float(np.abs(p).max())
+    panels = [(p, "contact pressure", "p")]
+    if q.max() > 1e-6 * peak:  # without friction the |q| panel would be flat zero
+        panels.append((q, "tangential traction", "|q|"))
+    x0, x1, y0, y1 = contact_window(xy, fr.state, fr.weights, margin)
+    lu, su = _suffix(length_unit), _suffix(stress_unit)
+    fig = Figure(figsize=(5.2 * len(panels), 4.6), dpi=150, layout="constrained")
+    axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    stick, slip = fr.state == STICK, fr.state == SLIP
+    for ax, (values, label, symbol) in zip(axes, panels):
+        if tri is not None:  # flat: one colour per triangle, the mean of its nodes
+            art = ax.tripcolor(tri, values, shading="flat", cmap="viridis", vmin=0.0)
+            if closed.any() and not closed.all():
+                ax.tricontour(tri, closed.astype(float), levels=[0.5], **CONTACT_EDGE)
+            if stick.any() and slip.any():
+                ax.tricontour(tri, stick.astype(float), levels=[0.5], **STICK_EDGE)
         else:
-            art = ax.scatter(xy[:, 0], xy[:, 1], c=v, s=12, cmap="viridis")
-        fig.colorbar(art, ax=ax, label=label + su)
-        for st, marker in ((STICK, "o"), (SLIP, "^")):
-            m = fr.state == st
-            if m.any() and m.sum() <= 2000:
-                ax.plot(xy[m, 0], xy[m, 1], marker, markersize=2.0, color="w", alpha=0.7,
-                        linestyle="none", label="stick" if st == STICK else "slip")
+            art = ax.scatter(xy[:, 0], xy[:, 1], c=values, s=12, cmap="viridis", vmin=0.0)
+        fig.colorbar(art, ax=ax, label=symbol + su, shrink=0.9)
+        ax.set_xlim(x0, x1)
+        ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
         ax.set_xlabel(lx + lu)
         ax.set_ylabel(ly + lu)
         ax.set_title(label)
     counts = fr.counts()
-    fig.suptitle(
-        f"contact frame: normal force {source.normal_force:.6g}, tangential force "
-        f"{source.tangential_force:.6g}; " + ", ".join(f"{v} {k}" for k, v in counts.items())
-    )
-    return save_png(fig, path)
+    n_closed = counts["stick"] + counts["slip"]
+    if closed.any() and not closed.all():
+        handles = [Line2D([], [], color=CONTACT_EDGE["colors"],
+                          linewidth=CONTACT_EDGE["linewidths"],
+                          label=f"contact edge: closed inside ({n_closed} nodes), "
+                          f"open outside ({counts['open']})")]
+    else:  # no edge to draw: say why
+        handles = [Line2D([], [], linestyle="none", label=f"all {fr.state.size} nodes "
+                          + ("open" if not closed.any() else "closed"))]
+    if stick.any() and slip.any():
+        handles.append(Line2D([], [], color=STICK_EDGE["colors"], linestyle="--",
+                              linewidth=STICK_EDGE["linewidths"],
+                              label=f"stick edge: stick inside ({counts['stick']}), "
+                              f"slip outside ({counts['slip']})"))
+    elif closed.any():
+        handles.append(Line2D([], [], linestyle="none",
+                              label=f"all closed nodes {'stick' if stick.any() else 'slip'}"))
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles),
+               facecolor="0.55", framealpha=1.0, labelcolor="white", fontsize="small",
+               handlelength=2.5)
+    if isinstance(source, ContactResult):
+        fu = f" {force_unit}" if force_unit else ""
+        # below 1e-6 of the contact force: round-off of the solve, not a result
+        small = source.tangential_force <= 1e-6 * float(np.linalg.norm(source.contact_force))
+        tangential = "0" if small else f"{source.tangential_force:.4g}{fu}"
+        fig.suptitle(f"contact frame: normal force {source.normal_force:.4g}{fu}, "
+                     f"tangential force {tangential}")
+    return fig
+
+
+def plot_frame_tractions(
+    source: ContactResult | FrameResult,
+    path: str | os.PathLike,
+    *,
+    cells=None,
+    length_unit: str = "",
+    stress_unit: str = "",
+    force_unit: str = "",
+    margin: float = 0.25,
+) -> pathlib.Path:
+    """Maps of the contact pressure and of the tangential traction magnitude
+    on the contact frame (the contact law's nodes), seen along the frame's
+    mean normal, zoomed to the contact zone (:func:`contact_window`: the
+    closed nodes plus ``margin``), with the contact zone's and the stick
+    zone's edges drawn as outlines (contours of the nodes' states, with a
+    legend) and units on the axes and colour bars (``""``: none).
+
+    Each triangle is filled with one colour (flat shading: the mean of its
+    nodes' values, so every colour is on the colour bar); quads are split
+    into two triangles.  Without friction (|q| below 1e-6 of the peak
+    pressure) the |q| map is left out.  ``cells``: the frame's elements as
+    meshio-style ``[(kind, conn)]`` (``write_results`` passes them),
+    otherwise a Delaunay triangulation of the nodes is drawn.
+    Writes a PNG to ``path`` and returns it."""
+    return save_png(frame_tractions_figure(
+        source, cells=cells, length_unit=length_unit, stress_unit=stress_unit,
+        force_unit=force_unit, margin=margin), path)
 
 
 __all__ = [
@@ -389,5 +542,9 @@ __all__ = [
     "plot_radial_profile",
     "plot_force_displacement",
     "plot_frame_tractions",
+    "frame_tractions_figure",
+    "contact_window",
+    "axisymmetry",
+    "AXISYMMETRIC_SCATTER",
     "save_png",
 ]

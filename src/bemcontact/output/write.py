@@ -12,9 +12,11 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
 * ``<name>.pvd`` for each of the VTU files above, with ``steps/<name>_<k>.vtu``
   (k = 001, 002, ...): the state at the end of every load step, a time series
   for ParaView (time = step number).
-* ``frame_tractions.png``: contact pressure and tangential traction on the frame
-  (needs matplotlib, ``pip install "bemcontact[plot]"``; figures on by default
-  are skipped without it, with an
+* ``frame_tractions.png``: contact pressure and tangential traction on the frame,
+  zoomed to the contact zone; ``frame_profile.png``: both against the distance
+  from the contact's centre, when the contact is axisymmetric (figures need
+  matplotlib, ``pip install "bemcontact[plot]"``; figures on by default are
+  skipped without it, with an
   :class:`~bemcontact.errors.OptionalDependencyWarning`).
 
 VTU points are the *functional nodes* of the discretization (the collocation
@@ -281,12 +283,29 @@ def write_results(
             for iface in result.interfaces:
                 _write_interface_csv(tmp / f"{iface.body}_interface.csv", iface)
             _write_frame_csv(tmp / "frame.csv", result.frame)
-        if opt.figures:
-            from .plot import plot_frame_tractions
-
-            plot_frame_tractions(result, tmp / "frame_tractions.png", cells=_frame_cells(result))
+        if opt.figures and _write_figures(tmp, result, (problem_echo or {}).get("units")):
+            files.append("frame_profile.png")
     out = pathlib.Path(rundir.given)
     return [out / f for f in files]
+
+
+def _write_figures(directory: pathlib.Path, result: ContactResult, units) -> bool:
+    """``frame_tractions.png``, and ``frame_profile.png`` if the contact is
+    axisymmetric (:func:`~bemcontact.output.plot.axisymmetry`); units are the
+    problem file's labels.  Returns whether the profile was drawn."""
+    from .plot import AXISYMMETRIC_SCATTER, axisymmetry, plot_frame_tractions, plot_radial_profile
+
+    u = {k: str(v) for k, v in (units or {}).items()} if isinstance(units, Mapping) else {}
+    kw = {"length_unit": u.get("length", ""), "stress_unit": u.get("stress", "")}
+    plot_frame_tractions(result, directory / "frame_tractions.png", cells=_frame_cells(result),
+                         force_unit=u.get("force", ""), **kw)
+    axi = axisymmetry(result.frame)
+    if axi is None or axi[1] > AXISYMMETRIC_SCATTER:
+        return False
+    plot_radial_profile(result, directory / "frame_profile.png", component=None, center=axi[0],
+                        title="pressure and |q| against the distance r from the contact's centre",
+                        **kw)
+    return True
 
 
 #: How to get the figures (matplotlib is the ``plot`` extra).
