@@ -21,6 +21,7 @@ SRC = pathlib.Path(__file__).resolve().parents[1] / "src" / "bemcontact"
 LAYERS = [
     {"__main__"},
     {"cli", "__init__"},
+    {"study"},
     {"problemfile"},
     {"validation", "output", "bench"},
     {"contact"},

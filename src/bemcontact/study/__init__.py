@@ -1,0 +1,8 @@
+"""Parameter studies (issue 27): many solves of one problem file with some
+keys varied, each point a task on Dask distributed (:mod:`.sweep`), the
+bodies condensed once per group of points that share them and kept on disk
+(:mod:`.cache`)."""
+
+from .cache import BodyCache
+
+__all__ = ["BodyCache"]
