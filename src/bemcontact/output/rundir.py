@@ -5,24 +5,32 @@ Rules (docs/problem-file.md, "Output directory"):
 * A run writes everything into a fresh sibling ``.<name>.tmp-XXXX`` first,
   with a manifest (:data:`MARKER`, the list of the files it wrote); only when
   every file is complete is the whole directory swapped in: renamed into
-  place when ``<name>`` does not exist, else ``<name>`` is renamed aside to
-  ``.<name>.old-XXXX``, the new one renamed into place and the old one
-  removed.  A run killed between the two renames leaves no ``<name>``: the
-  next run into it renames the previous run back first (and removes stale
-  ``.tmp-`` directories).
+  place when ``<name>`` does not exist, else exchanged with ``<name>`` in one
+  atomic step (Linux ``renameat2(RENAME_EXCHANGE)``) and the old run, now in
+  the staging name, removed.  Where the filesystem cannot exchange,
+  ``<name>`` is renamed aside to ``.<name>.old-XXXX`` and the new one renamed
+  into place: a run killed between those two renames leaves no ``<name>``,
+  and the next run into it renames the previous run back first.  Leftover
+  ``.tmp-`` and ``.old-`` directories are removed by the next run.
 * bemcontact never deletes or overwrites a file it did not write: it refuses
   an existing directory without its manifest unless empty, a directory that
   holds files its manifest does not list, the current directory, a
   filesystem root and an empty path, unless ``force`` (then files are moved
   in one by one and nothing else in the directory is touched).
-* A lock file ``.<name>.lock`` (the owner's process id) makes a second run
-  into the same directory fail at once instead of racing the first; a lock
-  whose process is gone is taken over.
+* ``--out`` naming a symbolic link writes into the directory it points to
+  (the link itself is kept); a link to nothing is refused.
+* A lock file ``.<name>.lock`` held with ``flock`` (and holding the owner's
+  process id, for the message) makes a second run into the same directory
+  fail at once instead of racing the first; the kernel releases it when its
+  process ends, however it ends, so a killed run never blocks the next.
 """
 
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import errno
+import fcntl
 import json
 import os
 import pathlib
@@ -52,11 +60,27 @@ class RunDirectory:
         if not text.strip():
             raise ConfigError("--out: the output directory is an empty path; name a directory")
         # lexically normalized: "a/new/.." is "a", and creates no "a/new"
-        self.path = pathlib.Path(os.path.normpath(pathlib.Path(text).absolute()))
+        path = pathlib.Path(os.path.normpath(pathlib.Path(text).absolute()))
+        if path.is_symlink():
+            # the run goes where the link points (swapping the link itself would
+            # replace it by a directory and leave the old one behind)
+            target = path.resolve()
+            if not target.is_dir():
+                raise ConfigError(
+                    f"{text}: --out: is a symbolic link to {target}, which "
+                    f"{'is not a directory' if target.exists() else 'does not exist'}; "
+                    "create that directory or name another one"
+                )
+            path = target
+        self.path = path
         self.force = bool(force)
         self.given = text
-        self._locked = False
+        self._lock_fd: int | None = None
         self.check()
+
+    @property
+    def _locked(self) -> bool:
+        return self._lock_fd is not None
 
     # ------------------------------------------------------------------ checks
     def check(self) -> None:
@@ -128,35 +152,52 @@ class RunDirectory:
         for d in reversed(missing):
             d.mkdir()
             self._created.append(d)
-        for _ in range(2):
-            try:
-                fd = os.open(self._lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                pid = _lock_owner(self._lock)
-                if pid is not None and _alive(pid):
-                    self._remove_created()
-                    raise ConfigError(
-                        f"{self.given}: --out: another bemcontact run (process {pid}) is "
-                        "writing into it; wait for it or name another directory"
-                    ) from None
-                with contextlib.suppress(FileNotFoundError):
-                    self._lock.unlink()  # its process is gone: take it over
-                continue
-            with os.fdopen(fd, "w") as f:
-                f.write(str(os.getpid()))
-            self._locked = True
-            break
-        else:  # pragma: no cover - a third run took the stale lock in between
+        try:
+            self._lock_fd = self._acquire()
+        except BaseException:
             self._remove_created()
-            raise ConfigError(f"{self.given}: --out: locked by another run")
+            raise
         self._recover()
         return self
 
+    def _acquire(self) -> int:
+        """The lock's file descriptor, ``flock``-ed; ConfigError if another
+        run holds it.  A holder unlinks the file before it lets go, so a lock
+        taken on a file no longer at the path is dropped and taken again."""
+        for _ in range(100):
+            fd = os.open(self._lock, os.O_CREAT | os.O_RDWR, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                pid = _lock_owner(fd)
+                os.close(fd)
+                raise ConfigError(
+                    f"{self.given}: --out: another bemcontact run"
+                    + (f" (process {pid})" if pid is not None else "")
+                    + " is writing into it; wait for it or name another directory"
+                ) from None
+            except BaseException:
+                os.close(fd)
+                raise
+            try:
+                st = os.stat(self._lock)
+                mine = os.fstat(fd)
+                current = (st.st_ino, st.st_dev) == (mine.st_ino, mine.st_dev)
+            except FileNotFoundError:
+                current = False
+            if current:
+                os.ftruncate(fd, 0)
+                os.write(fd, str(os.getpid()).encode())
+                return fd
+            os.close(fd)
+        raise ConfigError(f"{self.given}: --out: locked by other runs")  # pragma: no cover
+
     def __exit__(self, *exc: object) -> None:
-        if self._locked:
+        if self._lock_fd is not None:
             with contextlib.suppress(FileNotFoundError):
-                self._lock.unlink()
-            self._locked = False
+                self._lock.unlink()  # while still held: see _acquire
+            os.close(self._lock_fd)
+            self._lock_fd = None
         if not self.path.exists():
             self._remove_created()
 
@@ -212,29 +253,47 @@ class RunDirectory:
                 os.replace(f, target)
             shutil.rmtree(tmp, ignore_errors=True)
             return
+        if _exchange(tmp, out):
+            shutil.rmtree(tmp, ignore_errors=True)  # the old run, now in the staging name
+            return
         old = out.parent / f".{out.name}.old-{secrets.token_hex(4)}"
         out.rename(old)
         tmp.rename(out)
         shutil.rmtree(old, ignore_errors=True)
 
 
-def _lock_owner(path: pathlib.Path) -> int | None:
+def _libc():
     try:
-        return int(path.read_text().strip())
+        libc = ctypes.CDLL(None, use_errno=True)
+    except OSError:  # pragma: no cover
+        return None
+    return libc if hasattr(libc, "renameat2") else None
+
+
+_LIBC = _libc()
+
+
+def _exchange(a: pathlib.Path, b: pathlib.Path) -> bool:
+    """Exchange the directories ``a`` and ``b`` in one atomic step (Linux
+    ``renameat2`` with ``RENAME_EXCHANGE``); False where the system or the
+    filesystem cannot (then nothing was changed)."""
+    if _LIBC is None:
+        return False
+    at_fdcwd, rename_exchange = -100, 2
+    if _LIBC.renameat2(at_fdcwd, os.fsencode(a), at_fdcwd, os.fsencode(b), rename_exchange) == 0:
+        return True
+    err = ctypes.get_errno()
+    if err in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP, errno.EOPNOTSUPP):
+        return False
+    raise OSError(err, os.strerror(err), os.fspath(b))
+
+
+def _lock_owner(fd: int) -> int | None:
+    """The process id written in the lock file ``fd`` (None: not yet written)."""
+    try:
+        return int(os.pread(fd, 32, 0).decode().strip())
     except (OSError, ValueError):
         return None
-
-
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return True
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 __all__ = ["RunDirectory", "MARKER"]
