@@ -19,15 +19,9 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
   skipped without it, with an
   :class:`~bemcontact.errors.OptionalDependencyWarning`).
 
-VTU points are the *functional nodes* of the discretization (the collocation
-points, where the solution lives), not the mesh nodes: away from edges they
-coincide; at edges and corners each element has its own copy of a node,
-moved toward the element centroid (docs/theory.md), and the values there are
-per element.  Each cell is a mesh element drawn through its own functional
-nodes (``Discretization.fconn``): a valid cell of the same type, slightly
-shrunk where its nodes are shifted, so a surface plot shows thin gaps along
-the edges of the body and every nodal value exactly as computed, with no
-interpolation or averaging.
+VTU files: the bodies' surfaces at their true geometry (mesh nodes and
+elements, region names as field data; also ``regions`` in ``summary.json``),
+see :mod:`bemcontact.output.vtu`.
 
 Writing is all or nothing, and never touches a file bemcontact did not write:
 the rules of :mod:`bemcontact.output.rundir` (a whole run is written beside
@@ -56,7 +50,7 @@ from ..contact.results import ContactResult
 from ..errors import ConfigError, OptionalDependencyWarning
 from ..settings import Key, check_settings, setting
 from .rundir import RunDirectory
-from ..mesh.element import CORNERS
+from .vtu import _frame_cells, write_pvd, write_state_vtus
 
 #: Columns of ``<body>_interface.csv``.
 INTERFACE_COLUMNS = (
@@ -68,8 +62,6 @@ FRAME_COLUMNS = (
     "x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y", "slip_z", "state",
     "nx", "ny", "nz", "weight",
 )  # fmt: skip
-_MESHIO_CELL = {"tri3": "triangle", "tri6": "triangle6", "quad4": "quad", "quad8": "quad8",
-                "quad9": "quad9"}  # fmt: skip
 _SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 
 
@@ -111,12 +103,16 @@ def summary(
     error: str | None = None,
 ) -> dict[str, Any]:
     """The content of ``summary.json``: ``result.summary()`` (or a given dict)
-    with ``version``, ``names``, ``problem`` and ``error`` added, non-finite
+    with ``version``, ``names``, ``regions`` (body -> its region names, in the
+    order of the VTU files' ``region`` index), ``problem`` and ``error`` added, non-finite
     numbers turned into ``null`` (strict JSON)."""
     from .._version import __version__
 
     if isinstance(result, ContactResult):
-        s: dict[str, Any] = {**result.summary(), "names": list(result.names)}
+        s: dict[str, Any] = {**result.summary(), "names": list(result.names), "regions": {
+            n: list(sol.discretization.mesh.region_names)
+            for n, sol in zip(result.names, result.bodies)
+        }}
     elif isinstance(result, Mapping):
         s = dict(result)
     else:
@@ -269,14 +265,14 @@ def write_results(
     with rundir.staging() as tmp:
         _write_json(tmp / "summary.json", summary(result, problem_echo))
         if opt.vtu:
-            _write_state_vtus(tmp, result, "")
+            write_state_vtus(tmp, result, "")
             if opt.steps == "all":
                 (tmp / "steps").mkdir()
                 width = max(3, len(str(len(history))))
                 for k, state in enumerate(history, start=1):
-                    _write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}")
+                    write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}")
                 for n in series:
-                    _write_pvd(tmp / f"{n}.pvd", [
+                    write_pvd(tmp / f"{n}.pvd", [
                         (k, f"steps/{n}_{k:0{width}d}.vtu") for k in range(1, len(history) + 1)
                     ])  # fmt: skip
         if opt.csv:
@@ -344,27 +340,6 @@ def require_matplotlib(what: str) -> None:
             f"{what}: needs matplotlib, which is not installed; {PLOT_INSTALL}, or "
             "turn figures off (problem file: [output] figures = false)"
         )
-
-
-def _write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str) -> None:
-    for sol, n in zip(result.bodies, result.names):
-        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol)
-    for sol, iface in zip(result.bodies, result.interfaces):
-        _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
-    _write_frame_vtu(directory / f"frame{suffix}.vtu", result)
-
-
-def _write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
-    """A ParaView collection: one ``DataSet`` per (time, relative file)."""
-    lines = [
-        '<?xml version="1.0"?>',
-        '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
-        "  <Collection>",
-        *(f'    <DataSet timestep="{t:g}" group="" part="0" file="{f}"/>' for t, f in entries),
-        "  </Collection>",
-        "</VTKFile>",
-    ]
-    path.write_text("\n".join(lines) + "\n")
 
 
 def write_summary(
@@ -458,97 +433,6 @@ def _write_frame_csv(path: pathlib.Path, frame) -> None:
         frame.state.astype(float), frame.normals, frame.weights,
     ])  # fmt: skip
     _write_csv(path, FRAME_COLUMNS, table, ("state",))
-
-
-def _write_vtu(path: pathlib.Path, points, cells, point_data, cell_data=None) -> None:
-    import meshio
-
-    mesh = meshio.Mesh(
-        np.ascontiguousarray(points, dtype=float),
-        cells,
-        point_data={k: np.ascontiguousarray(v) for k, v in point_data.items()},
-        cell_data=cell_data or {},
-    )
-    meshio.write(os.fspath(path), mesh, file_format="vtu")
-
-
-def _element_cells(disc, elements: np.ndarray, local: np.ndarray | None = None):
-    """meshio cells of ``elements`` through their functional nodes (renumbered
-    by ``local``: functional node -> point index, -1 absent), or None if a node
-    is absent."""
-    mesh = disc.mesh
-    k = mesh.elements.shape[1]
-    conn = disc.fconn[elements, :k]
-    if local is not None:
-        conn = local[conn]
-        if (conn < 0).any():
-            return None
-    return [(_MESHIO_CELL[mesh.element_type], np.ascontiguousarray(conn, dtype=np.int64))]
-
-
-def _vertices(n: int):
-    return [("vertex", np.arange(n, dtype=np.int64)[:, None])]
-
-
-def _write_body_vtu(path: pathlib.Path, sol) -> None:
-    d = sol.discretization
-    cells = _element_cells(d, np.arange(d.mesh.n_elements))
-    _write_vtu(
-        path, sol.points, cells,
-        {
-            "displacement": sol.displacement, "traction": sol.traction, "normal": sol.normals,
-            "weight": sol.weights, "region": sol.region.astype(np.int32),
-        },
-        {"region": [d.mesh.element_region.astype(np.int32)]},
-    )
-
-
-def _write_interface_vtu(path: pathlib.Path, sol, iface) -> None:
-    d = sol.discretization
-    local = np.full(d.n_points, -1, dtype=np.int64)
-    local[iface.nodes] = np.arange(iface.nodes.size)
-    elements = d.mesh.region(iface.surface)
-    cells = _element_cells(d, elements, local) or _vertices(iface.nodes.size)
-    _write_vtu(
-        path, iface.points, cells,
-        {
-            "pressure": iface.pressure, "tangential_traction": iface.tangential_traction,
-            "gap": iface.gap, "slip": iface.slip, "state": iface.state.astype(np.int8),
-            "displacement": iface.displacement, "traction": iface.traction,
-            "normal": iface.normals, "weight": iface.weights,
-        },
-    )
-
-
-def _frame_cells(result: ContactResult):
-    """The frame's elements: the frame lies on the corner nodes of one body's
-    contact elements (frame.py); find that body and rebuild the linear cells,
-    else None.  The match is checked against the frame's points."""
-    pts = result.frame.points
-    for sol, iface in zip(result.bodies, result.interfaces):
-        mesh = sol.discretization.mesh
-        nc = CORNERS[mesh.element_type]
-        corners = mesh.elements[mesh.region(iface.surface), :nc]
-        geo, inv = np.unique(corners, return_inverse=True)
-        if geo.size == pts.shape[0] and np.allclose(mesh.nodes[geo], pts, rtol=0, atol=1e-12 * (
-            1.0 + np.abs(pts).max()
-        )):
-            kind = "quad" if nc == 4 else "triangle"
-            return [(kind, inv.reshape(corners.shape).astype(np.int64))]
-    return None
-
-
-def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
-    fr = result.frame
-    cells = _frame_cells(result) or _vertices(fr.points.shape[0])
-    _write_vtu(
-        path, fr.points, cells,
-        {
-            "pressure": fr.pressure, "tangential_traction": fr.tangential_traction,
-            "gap": fr.gap, "slip": fr.slip, "state": fr.state.astype(np.int8),
-            "normal": fr.normals, "weight": fr.weights,
-        },
-    )
 
 
 __all__ = [

@@ -78,29 +78,78 @@ def test_summary_json(written, result):
     assert s["states"]["upper"] == result.interfaces[1].counts()
 
 
-def test_body_vtu_holds_functional_nodes_and_elements(written, result):
+def test_body_vtu_is_the_mesh_without_holes_with_region_names(written, result):
+    """Points are the mesh nodes and cells the mesh elements (shared nodes:
+    no gaps along edges); continuous nodes carry their values as computed;
+    the region names round-trip through meshio as field data."""
     out, _ = written
+    s = json.loads((out / "summary.json").read_text())
     for sol, name in zip(result.bodies, result.names):
         m = meshio.read(out / f"{name}.vtu")
         d = sol.discretization
-        np.testing.assert_array_equal(m.points, sol.points)
-        np.testing.assert_array_equal(m.point_data["displacement"], sol.displacement)
-        np.testing.assert_array_equal(m.point_data["traction"], sol.traction)
+        np.testing.assert_array_equal(m.points, d.mesh.nodes)
         (cells,) = m.cells
         assert cells.type == "quad"
-        np.testing.assert_array_equal(cells.data, d.fconn[:, :4])
+        np.testing.assert_array_equal(cells.data, d.mesh.elements)
         np.testing.assert_array_equal(m.cell_data["region"][0], d.mesh.element_region)
+        names = {k: v.ravel().tolist() for k, v in m.field_data.items()}
+        assert names == {n: [i, 2] for i, n in enumerate(d.mesh.region_names)}
+        assert s["regions"][name] == list(d.mesh.region_names) == [
+            "xmin", "xmax", "ymin", "ymax", "zmin", "zmax"]
+        shared = d.element < 0
+        assert shared.sum() == {"lower": 6, "upper": 0}[name]  # face centres
+        assert (~shared).sum() > 0
+        g = d.geometric_node[shared]
+        np.testing.assert_allclose(m.point_data["displacement"][g], sol.displacement[shared],
+                                   rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(m.point_data["traction"][g], sol.traction[shared],
+                                   rtol=1e-12, atol=1e-12)
+        # the copies of a node share its area: the weights still sum to the area
+        assert m.point_data["weight"].sum() == pytest.approx(d.mesh.area, rel=1e-12)
+        assert np.linalg.norm(m.point_data["normal"], axis=1) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("etype", ["tri3", "quad4", "tri6", "quad8", "quad9"])
+def test_geometric_values_are_exact_for_linear_fields(etype):
+    """An element's interpolant through its shifted edge and corner nodes is
+    exact for a linear field, so the value at every mesh node is too."""
+    from bemcontact.bem.discretization import discretize
+    from bemcontact.output.vtu import geometric_values
+
+    d = discretize(bc.box((0, 0, 0), (1, 2, 3), 2, etype))
+    assert (d.element >= 0).sum() > 0
+    A = np.array([[1.0, -2.0, 0.5], [0.3, 0.0, 4.0]])
+    nodes, v = geometric_values(d, d.points @ A.T + [1.0, -1.0])
+    np.testing.assert_array_equal(nodes, np.arange(d.mesh.n_nodes))
+    np.testing.assert_allclose(v, d.mesh.nodes @ A.T + [1.0, -1.0], rtol=0, atol=1e-12)
+    state = (d.element >= 0).astype(np.int8)  # 1 at the discontinuous copies
+    nodes, top = geometric_values(d, state, how="max")
+    assert set(nodes[top == 1]) == set(d.geometric_node[d.element >= 0])
+    _, w = geometric_values(d, d.weights, how="sum")
+    assert w.sum() == pytest.approx(d.weights.sum(), rel=1e-14)
 
 
 def test_interface_vtu_and_csv(written, result):
     out, _ = written
+    checked = []
     for sol, iface in zip(result.bodies, result.interfaces):
         m = meshio.read(out / f"{iface.body}_interface.vtu")
-        np.testing.assert_array_equal(m.points, iface.points)
-        for key in ("pressure", "tangential_traction", "gap", "slip", "displacement", "traction"):
-            np.testing.assert_array_equal(m.point_data[key], getattr(iface, key), err_msg=key)
-        np.testing.assert_array_equal(m.point_data["state"], iface.state)
-        assert m.cells[0].data.shape[0] == sol.discretization.mesh.region(iface.surface).size
+        mesh = sol.discretization.mesh
+        elements = mesh.region(iface.surface)
+        nodes = np.unique(mesh.elements[elements])
+        np.testing.assert_array_equal(m.points, mesh.nodes[nodes])  # the true geometry
+        assert m.cells[0].data.shape[0] == elements.size
+        np.testing.assert_array_equal(nodes[m.cells[0].data], mesh.elements[elements])
+        at = {n: i for i, n in enumerate(nodes)}
+        shared = sol.discretization.element[iface.nodes] < 0
+        rows = [at[g] for g in sol.discretization.geometric_node[iface.nodes[shared]]]
+        for key in ("pressure", "tangential_traction", "displacement", "traction"):
+            np.testing.assert_allclose(m.point_data[key][rows], getattr(iface, key)[shared],
+                                       rtol=1e-12, atol=1e-9, err_msg=key)
+        np.testing.assert_array_equal(m.point_data["state"][rows], iface.state[shared])
+        checked.append(len(rows))
+        assert {k: v.ravel().tolist() for k, v in m.field_data.items()}[iface.surface] == [
+            mesh.region_names.index(iface.surface), 2]
         with open(out / f"{iface.body}_interface.csv", newline="") as f:
             rows = list(csv.reader(f))
         assert rows[0] == list(io.INTERFACE_COLUMNS)
@@ -113,6 +162,7 @@ def test_interface_vtu_and_csv(written, result):
         ])  # fmt: skip
         np.testing.assert_array_equal(data, expected)  # NaN gaps stay NaN, full precision
         assert all(r[11] in ("0", "1", "2") for r in rows[1:])
+    assert checked == [1, 0]  # the centre of the lower block's top face
 
 
 def test_frame_vtu_and_csv(written, result):
