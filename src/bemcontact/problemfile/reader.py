@@ -38,7 +38,6 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
-import math
 import os
 import pathlib
 import re
@@ -53,7 +52,7 @@ from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, Solv
 from ..errors import BemcontactError, ConfigError, OptionalDependencyWarning
 from ..inputs import MAX_MESH_BYTES, MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg import HMatrixOptions, LinearSolverOptions
-from ..mesh import MAX_ELEMENTS, SurfaceMesh, box, read_mesh
+from ..mesh import SurfaceMesh, box, read_mesh
 from ..output.write import (
     FIGURES_SKIPPED,
     PLOT_INSTALL,
@@ -63,6 +62,7 @@ from ..output.write import (
 )
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
+from .sizes import check_body_size, check_generated_size
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
 NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
@@ -236,14 +236,20 @@ class _Reader(Checker):
                 [b.get("name") for b in raw_bodies],
             )
         names = [self.body_name(i, b) for i, b in enumerate(raw_bodies)]
-        if names[0] == names[1]:
-            self.fail("body[1].name", "duplicate body name (body[0] has it too)", names[1],
+        # file names compared as a case-insensitive filesystem (macOS, Windows) would
+        folded = [n.casefold() for n in names]
+        if folded[0] == folded[1]:
+            self.fail("body[1].name", f"duplicate body name (body[0] is {names[0]!r}; output "
+                      "file names differ only in case)" if names[0] != names[1] else
+                      "duplicate body name (body[0] has it too)", names[1],
                       "give each body its own name")
         for i in range(2):
-            if names[i] == f"{names[1 - i]}_interface":
+            if folded[i] == f"{folded[1 - i]}_interface":
                 self.fail(f"body[{i}].name", f"clashes with the output files of body "
                           f"{names[1 - i]!r} ({names[i]}.vtu)", names[i], "choose another name")
         meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
+        for i, b in enumerate(raw_bodies):
+            check_body_size(self, f"body[{i}].mesh", meshes[i], b["mesh"])
         materials = [
             self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
         ]
@@ -357,8 +363,8 @@ class _Reader(Checker):
                 "(it names the output files)",
                 name,
             )
-        if name in RESERVED_NAMES:
-            self.fail(f"{where}.name", f"is reserved for an output file ({name}.*)", name,
+        if name.casefold() in RESERVED_NAMES:
+            self.fail(f"{where}.name", f"is reserved for an output file ({name.lower()}.*)", name,
                       "choose another name")
         if len(name) > MAX_NAME_LENGTH:
             self.fail(f"{where}.name", f"is longer than {MAX_NAME_LENGTH} characters (it names "
@@ -422,40 +428,6 @@ class _Reader(Checker):
         except BemcontactError as exc:
             self.wrap(where, exc, value)
 
-    def check_mesh_size(self, where: str, source: str, f: dict, t: dict) -> None:
-        """Refuse, before meshing, a generated mesh with more elements than
-        bemcontact accepts or than any solve of it could hold in this
-        machine's memory (:func:`~bemcontact.mesh.shapes.element_estimate`;
-        a cap with fine_size = 0.02 over its whole surface meshed for
-        minutes)."""
-        from ..contact.memory import least_body_bytes, machine_memory
-        from ..mesh.shapes import element_estimate
-
-        rim = 0.0
-        if source == "cap":
-            R, H = f["radius"], f["height"]
-            area = 2.0 * math.pi * R * H + math.pi * H * max(2.0 * R - H, 0.0)
-        elif source == "punch":
-            r, H = f["radius"], f["height"]
-            area, rim = 2.0 * math.pi * r * r + 2.0 * math.pi * r * H, r
-        else:
-            a, b, c = (hi - lo for lo, hi in zip(f["lower"], f["upper"]))
-            area = 2.0 * abs(a * b + b * c + c * a)
-        estimate = element_estimate(area, f["fine_size"], f["coarse_size"], f["growth"],
-                                    f.get("fine_radius") or 0.0, rim)
-        nodes = estimate * (2.0 if f["order"] == 2 else 0.5)
-        if estimate > MAX_ELEMENTS:
-            self.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements, more than the "
-                      f"{MAX_ELEMENTS:,} bemcontact accepts", t["fine_size"],
-                      "raise fine_size or shrink the refined zone")
-        need = least_body_bytes(nodes)
-        _, avail = machine_memory()
-        if need > 1.25 * avail:
-            self.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements "
-                      f"({nodes:.3g} nodes), whose solve needs at least {need / 1e9:.3g} GB; "
-                      f"this machine has {avail / 1e9:.3g} GB available", t["fine_size"],
-                      "raise fine_size or shrink the refined zone")
-
     def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
         """``cap``, ``punch`` or ``graded_box``: a gmsh-generated mesh."""
         from ..mesh import shapes as geometry
@@ -466,7 +438,7 @@ class _Reader(Checker):
         if f["coarse_size"] < f["fine_size"]:
             self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
                       t["coarse_size"])
-        self.check_mesh_size(where, source, f, t)
+        check_generated_size(self, where, source, f, t)
         if source == "cap":
             if not f["height"] < 2 * f["radius"]:
                 self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",
