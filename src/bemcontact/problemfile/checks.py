@@ -17,6 +17,19 @@ from ..settings import LARGEST, NO_DEFAULT, SMALLEST, Key, in_range, range_text
 #: The string that leaves a displacement or traction component unprescribed.
 FREE = "free"
 
+#: Unit labels the ``units`` table accepts, with their SI factors.
+UNITS: dict[str, dict[str, float]] = {
+    "length": {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6, "µm": 1e-6, "km": 1e3,
+               "in": 0.0254, "ft": 0.3048},
+    "force": {"N": 1.0, "mN": 1e-3, "kN": 1e3, "MN": 1e6, "lbf": 4.4482216152605,
+              "kip": 4448.2216152605},
+    "stress": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "N/mm²": 1e6, "N/mm^2": 1e6,
+               "psi": 6894.757293168, "ksi": 6894757.293168, "psf": 47.88025898033584},
+}
+#: Consistent sets named by the error for inconsistent ``units``.
+CONSISTENT_UNITS = ("{m, N, Pa}, {mm, N, MPa}, {m, kN, kPa}, {mm, kN, GPa}, {m, MN, MPa}, "
+                    "{in, lbf, psi}, {in, kip, ksi}")
+
 
 def one_line(text: str) -> str:
     return " ".join(str(text).split())
@@ -125,7 +138,25 @@ class Checker:
                 out[k.name] = self.value(f"{where}.{k.name}" if where else k.name, t[k.name], k)
             elif k.default is not NO_DEFAULT:
                 out[k.name] = copy.deepcopy(k.default)
+        if key.name == "units" and not where.count("."):
+            self.check_units(where, out)
         return out
+
+    def check_units(self, where: str, labels: dict[str, str]) -> None:
+        """The ``units`` labels name known units (:data:`UNITS`) and, when
+        all three are given, a consistent set: stress = force / length²."""
+        for kind, label in labels.items():
+            if label not in UNITS[kind]:
+                self.fail(f"{where}.{kind}", f"unknown {kind} unit", label,
+                          suggest(label, UNITS[kind]) or f"known: {', '.join(UNITS[kind])}")
+        if len(labels) == 3:
+            L, F, S = (UNITS[k][labels[k]] for k in ("length", "force", "stress"))
+            if not math.isclose(F / L**2, S, rel_tol=1e-6):
+                fit = next((n for n, v in UNITS["stress"].items()
+                            if math.isclose(F / L**2, v, rel_tol=1e-6)), "none of the known")
+                self.fail(where, f"inconsistent: {labels['force']} / {labels['length']}² is "
+                          f"{fit}, not {labels['stress']}", labels,
+                          f"use a consistent set, e.g. {CONSISTENT_UNITS}")
 
     def number(
         self, where: str, value: Any, *, integer: bool = False, lo: float | None = None,
