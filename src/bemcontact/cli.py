@@ -7,6 +7,8 @@
                               [--truncation block|global] [--storage double|mixed] [--threads N]
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--method M] [--eps E]
                                [--json FILE]
+    bemcontact sweep PROBLEM.toml --out DIR [--vary KEY=VALUES ...] [--scheduler ADDRESS]
+                     [--workers N] [--threads N] [--quiet] [--debug]
     bemcontact --version
 
 Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
@@ -151,6 +153,7 @@ def _parser() -> argparse.ArgumentParser:
     two.add_argument("--threads", metavar="N", type=_threads,
                      help="threads (default: all cores, or OMP_NUM_THREADS)")
     two.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+    _sweep_parser(sub)
     return p
 
 
@@ -202,17 +205,20 @@ def _main(argv: Sequence[str] | None) -> int:
         return _mesh_info(args)
     if args.command == "bench":
         return _bench(args)
+    if args.command == "sweep":
+        return _sweep(args)
     return _run(args)
 
 
 def _check(args: argparse.Namespace) -> int:
+    problem = None
     try:
         problem = load_problem(args.problem)
         text = _describe(problem)
-    except BemcontactError as exc:
+    except (BemcontactError, MemoryError) as exc:
         if args.debug:
             raise
-        _error(str(exc))
+        _error(_out_of_memory(args.problem, problem) if isinstance(exc, MemoryError) else str(exc))
         return EXIT_INPUT
     print(terminal_text(text))
     return EXIT_OK
@@ -247,10 +253,10 @@ def _mesh_info(args: argparse.Namespace) -> int:
             mesh.check()
         except MeshError as exc:
             problem = " ".join(str(exc).split())
-    except BemcontactError as exc:
+    except (BemcontactError, MemoryError) as exc:
         if args.debug:
             raise
-        _error(str(exc))
+        _error(_out_of_memory(args.mesh, None) if isinstance(exc, MemoryError) else str(exc))
         return EXIT_INPUT
     if problem is None:
         lines.append("  closed, consistently oriented, normals outward: usable as a body")
@@ -346,6 +352,21 @@ def _bench(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _out_of_memory(path, problem) -> str:
+    """The one line for an allocation that failed (MemoryError, the compiled
+    core's std::bad_alloc): the memory available and, with a problem, the
+    solve's estimated peak."""
+    total, available = machine_memory()
+    text = (f"{path}: out of memory ({available / 1e9:.1f} GB available of "
+            f"{total / 1e9:.1f} GB)")
+    if problem is not None:
+        with contextlib.suppress(Exception):
+            est = problem.contact_problem().memory_estimate(problem.options,
+                                                            problem.steps or None)
+            text += f"; the solve's estimated peak memory is {est.text()}"
+    return text + "; use a coarser mesh or a machine with more memory"
+
+
 def _error(message: str) -> None:
     print(terminal_text(f"bemcontact: error: {' '.join(str(message).split())}"), file=sys.stderr)
 
@@ -384,10 +405,12 @@ def _run(args: argparse.Namespace) -> int:
                     raise
                 return _not_converged(exc, out, problem.echo)
             files = problem.write(result, out)
-    except (BemcontactError, OSError) as exc:
+    except (BemcontactError, OSError, MemoryError) as exc:
         if args.debug:
             raise
-        if isinstance(exc, OSError) and not isinstance(exc, BemcontactError):
+        if isinstance(exc, MemoryError):
+            _error(_out_of_memory(args.problem, problem))
+        elif isinstance(exc, OSError) and not isinstance(exc, BemcontactError):
             where = getattr(exc, "filename", None)
             _error(f"cannot write the results to {args.out}: {exc.strerror or exc}"
                    + (f" ({where})" if where else ""))
@@ -465,6 +488,73 @@ def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
     else:
         print(terminal_text(f"  diagnostic summary: {path}"), file=sys.stderr)
     return EXIT_NOT_CONVERGED
+
+
+
+# ------------------------------------------------------------------ sweep (issue 27)
+
+
+def _sweep_parser(sub) -> None:
+    sw = sub.add_parser(
+        "sweep", help="a parameter study: many solves of a problem file on Dask",
+        description="Solve PROBLEM for every combination of the --vary values (or the points of "
+        "its [sweep] table), each point a task on Dask distributed (a local cluster by default); "
+        "points that share their bodies reuse the condensed operators. Writes DIR/table.csv, "
+        "DIR/sweep.png and each point's results in DIR/points/ (docs/getting-started.md).",
+    )
+    sw.add_argument("problem", metavar="PROBLEM.toml", type=pathlib.Path)
+    sw.add_argument("--vary", metavar="KEY=VALUES", action="append",
+                    help="a dotted problem-file key and its values, comma-separated "
+                    "(contact.friction_coefficient=0.1,0.2); repeat for a full factorial")
+    sw.add_argument("--out", metavar="DIR", required=True,
+                    help="output directory: new, empty, or this sweep's (resumed: finished "
+                    "points are not computed again)")
+    sw.add_argument("--scheduler", metavar="ADDRESS",
+                    help="a running Dask scheduler (tcp://host:8786); default: a local cluster")
+    sw.add_argument("--workers", metavar="N", type=_positive_int,
+                    help="worker processes of the local cluster (default: the cores)")
+    sw.add_argument("--threads", metavar="N", type=_threads,
+                    help="threads of each point's solve (default 1)")
+    sw.add_argument("--quiet", action="store_true", help="print nothing on success")
+    sw.add_argument("--debug", action="store_true", help="show tracebacks of errors")
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from .study import SweepOptions, run_sweep
+
+    quiet = args.quiet
+
+    def started(total, resumed, dashboard):
+        if not quiet:
+            before = f", {resumed} finished before" if resumed else ""
+            link = f"; Dask dashboard {dashboard}" if dashboard else ""
+            print(terminal_text(f"sweep of {args.problem}: {total} point(s){before}{link}"),
+                  file=sys.stderr)
+
+    def progress(done, total, row):
+        if not quiet:
+            what = (f"normal force {row['normal_force']:.6g}" if row.get("status") == "ok"
+                    else row.get("error", ""))
+            print(terminal_text(f"  point {done}/{total} {row['point']}: {row['status']}: {what}"),
+                  file=sys.stderr)
+
+    try:
+        opts = SweepOptions(scheduler=args.scheduler or "", workers=args.workers,
+                            threads=args.threads or 1)
+        result = run_sweep(args.problem, args.out, vary=args.vary, options=opts,
+                           progress=progress, started=started)
+    except (BemcontactError, OSError) as exc:
+        if args.debug:
+            raise
+        _error(str(exc))
+        return EXIT_INPUT
+    if not quiet:
+        ok = len(result.rows) - result.failed
+        print(terminal_text(
+            f"{args.problem}: {len(result.rows)} point(s), {ok} ok, {result.failed} failed "
+            f"({result.computed} computed, {result.resumed} finished before); results in "
+            f"{args.out}: " + ", ".join(f.name for f in result.files)))
+    return EXIT_OK if result.failed == 0 else EXIT_NOT_CONVERGED
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -440,3 +440,50 @@ def test_summary_prints_round_off_forces_as_zero_and_conditions_as_written(tmp_p
     out = capsys.readouterr().out
     assert "region zmax: " in out and "displacement [0.002, 0, -0.04]" in out
     assert "Displacement(" not in out
+
+
+# ----------------------------------------------------------------------------- out of memory
+
+
+@pytest.mark.parametrize("command", ["run", "check", "mesh-info"])
+def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch, command):
+    """Issue 24: std::bad_alloc in the H-LU (MemoryError through nanobind) or
+    a numpy allocation ended in a traceback; now one line naming the file and
+    the memory available (and for run the solve's estimated peak), exit 2,
+    the output directory untouched."""
+    import bemcontact.cli as cli
+    import bemcontact.mesh as mesh_package
+
+    def no_memory(*args, **kwargs):
+        raise MemoryError("std::bad_alloc")
+
+    monkeypatch.setattr(cli, "machine_memory", lambda: (32e9, 12.5e9))
+    src = problem(tmp_path)
+    out = tmp_path / "out"
+    if command == "run":
+        assert main(["run", str(src), "--out", str(out), "--quiet"]) == 0
+        before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+        monkeypatch.setattr(bc.ProblemFile, "solve", no_memory)
+        argv = ["run", str(src), "--out", str(out)]
+        name = src
+    elif command == "check":
+        monkeypatch.setattr(cli, "load_problem", no_memory)
+        argv, name = ["check", str(src)], src
+    else:
+        monkeypatch.setattr(mesh_package, "read_mesh", no_memory)
+        name = ROOT / "tests" / "data" / "bad" / "support" / "cube_named_regions.msh"
+        argv = ["mesh-info", str(name)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    expected = f"bemcontact: error: {name}: out of memory (12.5 GB available of 32.0 GB)"
+    assert err.startswith(expected) and err.count("\n") == 1, err
+    assert err.endswith("; use a coarser mesh or a machine with more memory\n"), err
+    if command == "run":
+        import re
+
+        assert re.search(r"; the solve's estimated peak memory is \d+\.\d\d GB \(at the "
+                         r"(condensation of (lower|upper)|newton)\);", err), err
+        assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "tiny.toml"]
+    with pytest.raises(MemoryError):
+        main([*argv, "--debug"])

@@ -66,9 +66,17 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     try:
         with contextlib.redirect_stderr(captured), contextlib.redirect_stdout(captured):
             m = meshio.read(p)
+    except MemoryError:
+        raise MeshError(f"{p}: cannot read mesh: out of memory while reading it") from None
     except (Exception, SystemExit) as exc:  # meshio raises many types, even SystemExit
         detail = " ".join(captured.getvalue().split()) or f"{type(exc).__name__}: {exc}"
+        if not isinstance(exc, meshio.ReadError):  # a reader tripping over what is missing
+            kind = os.path.splitext(p)[1] or "mesh"
+            detail = f"malformed or empty {kind} file (meshio failed: {detail})"
         raise MeshError(f"{p}: cannot read mesh: {detail}") from None
+    if not m.points.size or not any(len(b.data) for b in m.cells):
+        raise MeshError(f"{p}: the mesh is empty ({len(m.points)} nodes, "
+                        f"{sum(len(b.data) for b in m.cells)} elements)")
     blocks = [(i, MESHIO_TYPES[b.type]) for i, b in enumerate(m.cells) if b.type in MESHIO_TYPES]
     found = sorted({b.type for b in m.cells})
     if not blocks:
