@@ -9,7 +9,7 @@ CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp' -o -name '*.hpp.in')
 # builds the portable binary that wheels and plain `pip install .` get.
 NATIVE ?= ON
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
-RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs
+RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs dask distributed
 
 .PHONY: all install demo test test-fast test-wheel wheel bench docs clean FORCE
 

@@ -36,8 +36,10 @@ from .pair import ContactPair
 #: Largest relative residual of a state's values in the span of the
 #: condensed load fields; above it the state is refused (re-condense).
 SPAN_TOLERANCE = 1e-12
-#: The contact pair's fields that shape the frame (all but the friction).
-FRAME_FIELDS = ("surface1", "surface2", "frame", "search_distance", "frame_on")
+#: The contact pair's fields that shape the frame and the condensation (all
+#: but the friction coefficient).
+FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(ContactPair)
+                     if f.name != "friction_coefficient")
 
 
 def load_basis(body: ElasticBody, states: Sequence, contact_surface: str) -> np.ndarray:

@@ -264,6 +264,21 @@ OUTPUT = Key(
     ),
 )
 
+SWEEP = Key(
+    "sweep", "table", "a parameter study for `bemcontact sweep` (`run` and `check` ignore it)",
+    default={}, section="sweep",
+    notes='Keys are dotted paths as in error messages, quoted: `"contact.friction_coefficient" '
+    '= [0.1, 0.2]`, `"body[1].boundary_conditions.zmax.displacement[2]" = [-0.02, -0.04]`. '
+    "A sweep varies values: a point that changes the kind of a boundary condition "
+    "(displacement, traction, force) is refused. `bemcontact sweep --vary` replaces this table.",
+    keys=(
+        Key("vary", "map", '`"<key>" = [values]`: every combination of the values is a point '
+            "(full factorial)", default={}),
+        Key("points", "tables", "instead of `vary`, the points one by one: each a table of "
+            '`"<key>" = value`', default=[]),
+    ),
+)
+
 ROOT = Key(
     "", "table", "a problem file", section="top level",
     keys=(
@@ -277,6 +292,7 @@ ROOT = Key(
         CONTACT,
         STEP,
         OUTPUT,
+        SWEEP,
     ),
 )
 

@@ -4,5 +4,6 @@ bodies condensed once per group of points that share them and kept on disk
 (:mod:`.cache`)."""
 
 from .cache import BodyCache
+from .sweep import INSTALL, SweepOptions, SweepResult, run_sweep
 
-__all__ = ["BodyCache"]
+__all__ = ["BodyCache", "INSTALL", "SweepOptions", "SweepResult", "run_sweep"]

@@ -1,0 +1,149 @@
+"""The results of a sweep: one row per point (the swept values, the status
+and the key outputs), written as ``table.csv`` (and ``table.parquet`` when
+pyarrow is installed), and the summary figure ``sweep.png`` (each key
+output against each swept parameter; needs matplotlib)."""
+
+from __future__ import annotations
+
+import csv
+import importlib.util
+import os
+import pathlib
+import secrets
+from typing import Any
+
+import numpy as np
+
+#: The key outputs of a point, in the table's order (after the swept keys).
+OUTPUTS = (
+    "status", "error", "converged", "normal_force", "tangential_force", "force_x", "force_y",
+    "force_z", "newton_iterations", "increments", "stick", "slip", "open", "peak_pressure",
+    "slip_area", "contact_area", "seconds", "directory",
+)
+#: Outputs drawn against each swept parameter in ``sweep.png``.
+FIGURE_OUTPUTS = ("normal_force", "tangential_force", "slip_area", "peak_pressure",
+                  "newton_iterations")
+
+
+def outputs(result) -> dict[str, Any]:
+    """The key outputs of a :class:`~bemcontact.contact.ContactResult`."""
+    fr = result.frame
+    state = np.asarray(fr.state)
+    w = np.asarray(fr.weights)
+    counts = fr.counts()
+    return {
+        "converged": bool(result.converged),
+        "normal_force": float(result.normal_force),
+        "tangential_force": float(result.tangential_force),
+        "force_x": float(result.contact_force[0]),
+        "force_y": float(result.contact_force[1]),
+        "force_z": float(result.contact_force[2]),
+        "newton_iterations": int(result.newton_iterations),
+        "increments": len(result.steps),
+        "stick": counts.get("stick", 0), "slip": counts.get("slip", 0),
+        "open": counts.get("open", 0),
+        "peak_pressure": float(np.max(fr.pressure)) if fr.pressure.size else 0.0,
+        "slip_area": float(w[state == 2].sum()),
+        "contact_area": float(w[state != 0].sum()),
+    }
+
+
+def _cell(v: Any) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, float):
+        return repr(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_cell(x) for x in v) + "]"
+    return str(v)
+
+
+def _atomic(path: pathlib.Path, write) -> None:
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
+def write_table(out: pathlib.Path, keys: list[str], rows: list[dict]) -> list[pathlib.Path]:
+    """``table.csv`` (and ``table.parquet`` with pyarrow) in ``out``: one
+    row per point, ``point``, the swept keys, then :data:`OUTPUTS`."""
+    cols = ["point", *keys, *OUTPUTS]
+
+    def csv_file(tmp):
+        with open(tmp, "w", newline="", encoding="utf-8") as f:
+            w = csv.writer(f)
+            w.writerow(cols)
+            for r in rows:
+                w.writerow([_cell(r.get(c)) for c in cols])
+
+    files = [out / "table.csv"]
+    _atomic(files[0], csv_file)
+    if importlib.util.find_spec("pyarrow") is not None:
+        import pyarrow
+        import pyarrow.parquet
+
+        data = {c: [r.get(c) if not isinstance(r.get(c), (list, tuple)) else _cell(r.get(c))
+                    for r in rows] for c in cols}
+        table = pyarrow.table({c: pyarrow.array(v, from_pandas=True) if v else pyarrow.array([])
+                               for c, v in data.items()})
+        files.append(out / "table.parquet")
+        _atomic(files[1], lambda tmp: pyarrow.parquet.write_table(table, tmp))
+    return files
+
+
+def read_table(path: str | os.PathLike) -> list[dict[str, str]]:
+    """The rows of a ``table.csv`` as strings (column -> text)."""
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def numeric_keys(keys: list[str], rows: list[dict]) -> list[str]:
+    """The swept keys whose values are all numbers (they can be an axis)."""
+    return [k for k in keys if rows and all(
+        isinstance(r.get(k), (int, float)) and not isinstance(r.get(k), bool) for r in rows)]
+
+
+def write_figure(out: pathlib.Path, keys: list[str], rows: list[dict]) -> pathlib.Path | None:
+    """``sweep.png``: each of :data:`FIGURE_OUTPUTS` against each numeric
+    swept key (one line per combination of the other keys; failed points
+    left out).  None without matplotlib or without a numeric key."""
+    axes_keys = numeric_keys(keys, rows)
+    if not axes_keys or importlib.util.find_spec("matplotlib") is None:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    ok = [r for r in rows if r.get("status") == "ok"]
+    fig, axes = plt.subplots(len(FIGURE_OUTPUTS), len(axes_keys), squeeze=False,
+                             figsize=(4.2 * len(axes_keys), 2.4 * len(FIGURE_OUTPUTS)))
+    for j, k in enumerate(axes_keys):
+        others = [o for o in keys if o != k]
+        lines: dict[str, list[dict]] = {}
+        for r in ok:
+            lines.setdefault(", ".join(f"{o} = {_cell(r.get(o))}" for o in others), []).append(r)
+        for i, name in enumerate(FIGURE_OUTPUTS):
+            ax = axes[i][j]
+            for label, rs in lines.items():
+                rs = sorted(rs, key=lambda r: r[k])
+                ax.plot([r[k] for r in rs], [r[name] for r in rs], "o-", label=label or None)
+            ax.set_xlabel(k, fontsize=8)
+            ax.set_ylabel(name.replace("_", " "), fontsize=8)
+            ax.tick_params(labelsize=7)
+        if others and len(lines) <= 8:
+            axes[0][j].legend(fontsize=6)
+    fig.tight_layout()
+    path = out / "sweep.png"
+    _atomic(path, lambda tmp: fig.savefig(tmp, dpi=100, format="png"))
+    plt.close(fig)
+    return path
+
+
+__all__ = ["FIGURE_OUTPUTS", "OUTPUTS", "numeric_keys", "outputs", "read_table", "write_figure",
+           "write_table"]
