@@ -395,6 +395,8 @@ class SurfaceMesh:
                 f"{uniq[j].tolist()} in the same direction (one of them is inverted; corner "
                 "nodes must be counter-clockwise seen from outside)"
             )
+        # before the shells: inside and outside mean nothing on a surface through itself
+        self._check_crossings(where)
         for c, depth, v, inverted in self._shells():
             want_positive = depth % 2 == 0
             if inverted:
@@ -407,6 +409,28 @@ class SurfaceMesh:
                     "does this for whole shells)"
                 )
         return self
+
+    def _check_crossings(self, where: str) -> None:
+        """Refuse a surface that crosses itself (:mod:`bemcontact.mesh.intersect`,
+        on the flat facets through the corner nodes: quadrilaterals as two
+        triangles)."""
+        from .intersect import crossing_triangles
+
+        nc = CORNERS[self.element_type]
+        cor = self.elements[:, :nc]
+        tris = cor if nc == 3 else np.vstack([cor[:, [0, 1, 2]], cor[:, [0, 2, 3]]])
+        hit = crossing_triangles(self.nodes, np.ascontiguousarray(tris),
+                                 near=None if nc == 3 else np.vstack([cor, cor]))
+        if hit is None:
+            return
+        a, b = (t % self.n_elements for t in hit)
+        regions = sorted({self.region_names[r] for r in self.element_region[[a, b]]})
+        near = self.nodes[self.elements[a, :nc]].mean(axis=0)
+        raise MeshError(
+            f"{where}the surface intersects itself: elements {a} and {b} (regions "
+            f"{', '.join(regions)}) cross near ({near[0]:.6g}, {near[1]:.6g}, {near[2]:.6g}); "
+            "a body's surface must not pass through itself"
+        )
 
     def _shells(self) -> list[tuple[np.ndarray, int, float, bool]]:
         """Per shell (connected component): its elements, its depth (number of
