@@ -10,15 +10,20 @@ CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp' -o -name '*.hpp.in')
 NATIVE ?= ON
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
 RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs dask distributed
+# the docs' API reference is generated from the docstrings (make docs, tests/test_docs.py)
+DOC_DEPS := "mkdocstrings[python]>=1.0"
 
 .PHONY: all install demo test test-fast test-wheel wheel bench docs clean FORCE
 
 all: install
 
+# Progress: a line per stage, then pip's own lines (a few per package) while it installs.
 $(VENV)/.deps: pyproject.toml
+	@echo "== [1/2] $(VENV): the Python dependencies from PyPI (about a minute the first time)"
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS)
+	$(PY) -m pip install --progress-bar off "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS) \
+		$(DOC_DEPS)
 	touch $@
 
 # rewritten only when NATIVE changes, so that a change rebuilds
@@ -27,8 +32,10 @@ $(VENV)/.native: FORCE
 	@echo "$(NATIVE)" | cmp -s - $@ || echo "$(NATIVE)" > $@
 
 $(VENV)/.built: $(VENV)/.deps $(VENV)/.native $(CPP_SRC) CMakeLists.txt pyproject.toml
+	@echo "== [2/2] building the C++ core into $(VENV) (cmake; about a minute the first time)"
 	$(PY) -m pip install --quiet --no-build-isolation --no-deps -e . \
 		--config-settings=cmake.define.BEMCONTACT_NATIVE=$(NATIVE)
+	@echo "== built: $$($(PY) -c 'import bemcontact; print("bemcontact", bemcontact.__version__)')"
 	touch $@
 
 install: $(VENV)/.built
@@ -63,9 +70,10 @@ bench: install
 	$(PY) benchmarks/scaling.py
 
 # The documentation site (MkDocs, built-in theme, nothing fetched at build or view
-# time) goes into site/; open site/index.html.  Needs only mkdocs, not the C++ build.
+# time) goes into site/; open site/index.html.  Needs mkdocs and mkdocstrings (the API
+# reference reads the sources without importing them), not the C++ build.
 docs: $(VENV)/.deps
-	$(PY) -c "import mkdocs" 2>/dev/null || $(PY) -m pip install --quiet mkdocs
+	$(PY) -c "import mkdocs, mkdocstrings" 2>/dev/null || $(PY) -m pip install --quiet mkdocs $(DOC_DEPS)
 	$(VENV)/bin/mkdocs build --strict
 
 clean:

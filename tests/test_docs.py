@@ -199,3 +199,41 @@ def test_validation_figures_script_smoke(tmp_path):
     )
     for name in ("patch_test.png", "two_cubes_figure1.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+#: What the generated API reference must document (heading id -> a phrase of
+#: its docstring): the entry points of a user's script.
+API = {
+    "bemcontact.problemfile.reader.load_problem": "Read and check a problem file.",
+    "bemcontact.problemfile.reader.ProblemFile.solve": "Solve the file's problem as",
+    "bemcontact.contact.problem.ContactProblem": "",
+    "bemcontact.output.write.write_results": "Write the result files into",
+    "bemcontact.output.plot.plot_frame_tractions": "zoomed to the contact zone",
+    "bemcontact.output.vtu.geometric_values": "at the mesh's geometric nodes",
+    "bemcontact.validation.reference.contact.hertz": "",
+}
+
+
+def test_api_reference_is_generated_from_the_docstrings(built_site):
+    """api.md's ``:::`` directives became documented objects (mkdocstrings):
+    each entry point has its anchor and its docstring's text, no directive
+    is left unrendered, and the page is in the nav."""
+    assert "api.md" in _nav_pages(_config()["nav"])
+    page = (built_site / "api.html").read_text(encoding="utf-8")
+    assert ":::" not in page
+    text = re.sub(r"<[^>]+>", " ", page)
+    for anchor, phrase in API.items():
+        assert f'id="{anchor}"' in page, f"api.html: no entry {anchor}"
+        assert " ".join(phrase.split()) in " ".join(text.split()), f"api.html: {anchor}: {phrase!r}"
+    documented = re.findall(r'id="(bemcontact\.[\w.]+)"', page)
+    assert len(documented) >= 80, len(documented)
+
+
+def test_gallery_shows_every_example():
+    """docs/gallery.md names every example in examples/ and shows a figure."""
+    text = (DOCS / "gallery.md").read_text(encoding="utf-8")
+    examples = sorted(p.name for p in (ROOT / "examples").iterdir()
+                      if p.suffix in (".py", ".toml"))
+    missing = [e for e in examples if f"examples/{e}" not in text]
+    assert not missing, f"gallery.md does not show {missing}"
+    assert len(MD_IMAGE.findall(text)) >= 7

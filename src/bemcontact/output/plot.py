@@ -303,9 +303,12 @@ def plot_radial_profile(
         panels.append((q, traction, qlabel))
     fig = Figure(figsize=(5.0 * len(panels), 4.0), layout="constrained")
     axes = fig.subplots(1, len(panels), squeeze=False)[0]
+    # without friction every closed node counts as slipping: mark them "closed"
+    marks = ((((STICK,), "o", "stick"), ((SLIP,), "^", "slip")) if len(panels) == 2
+             else (((STICK, SLIP), "o", "closed"),)) + (((0,), "x", "open"),)
     for ax, (values, exact, label) in zip(axes, panels):
-        for st, marker, lab in ((STICK, "o", "stick"), (SLIP, "^", "slip"), (0, "x", "open")):
-            m = shown & (frame.state == st)
+        for st, marker, lab in marks:
+            m = shown & np.isin(frame.state, st)
             if m.any():
                 ax.plot(r[m], values[m], marker, markersize=3, linestyle="none", label=lab)
         if exact is not None:
@@ -490,10 +493,10 @@ def frame_tractions_figure(
                               linewidth=STICK_EDGE["linewidths"],
                               label=f"stick edge: stick inside ({counts['stick']}), "
                               f"slip outside ({counts['slip']})"))
-    elif closed.any():
+    elif closed.any() and len(panels) == 2:  # (without friction every closed node slips)
         handles.append(Line2D([], [], linestyle="none",
                               label=f"all closed nodes {'stick' if stick.any() else 'slip'}"))
-    fig.legend(handles=handles, loc="outside lower center", ncols=len(handles),
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(panels),
                facecolor="0.55", framealpha=1.0, labelcolor="white", fontsize="small",
                handlelength=2.5)
     if isinstance(source, ContactResult):

@@ -299,7 +299,7 @@ def _write_figures(directory: pathlib.Path, result: ContactResult, units) -> boo
     if axi is None or axi[1] > AXISYMMETRIC_SCATTER:
         return False
     plot_radial_profile(result, directory / "frame_profile.png", component=None, center=axi[0],
-                        title="pressure and |q| against the distance r from the contact's centre",
+                        title="radial profile (r from the contact's centre)",
                         **kw)
     return True
 

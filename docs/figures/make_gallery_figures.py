@@ -1,0 +1,67 @@
+"""The figures of docs/gallery.md that ``bemcontact run`` draws: each
+example problem file solved as the command solves it (ProblemFile.solve and
+.write, the same files) and its figures copied into docs/figures/.
+
+    .venv/bin/python docs/figures/make_gallery_figures.py [--out DIR] [--only NAME]
+
+* ``gallery_two_cubes_frame.png``: frame_tractions.png of
+  examples/two_cubes_dissimilar.toml (about 2 s).
+* ``gallery_block_frame.png``: frame_tractions.png of
+  examples/block_from_mesh_file.toml (about 5 s).
+* ``gallery_hertz_frame.png``, ``gallery_hertz_profile.png``:
+  frame_tractions.png and frame_profile.png of
+  examples/hertz_sphere_on_block.toml (needs gmsh; about 30 s).
+
+The other gallery figures are docs/validation.md's
+(``make_validation_figures.py``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import pathlib
+import shutil
+import sys
+import tempfile
+
+import bemcontact as bc
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+FIGURES = pathlib.Path(__file__).resolve().parent
+
+#: name -> (problem file, {figure written by the run: gallery file name})
+GALLERY = {
+    "two_cubes": ("two_cubes_dissimilar.toml",
+                  {"frame_tractions.png": "gallery_two_cubes_frame.png"}),
+    "block": ("block_from_mesh_file.toml", {"frame_tractions.png": "gallery_block_frame.png"}),
+    "hertz": ("hertz_sphere_on_block.toml", {"frame_tractions.png": "gallery_hertz_frame.png",
+                                             "frame_profile.png": "gallery_hertz_profile.png"}),
+}
+
+
+def make(name: str, out: pathlib.Path) -> list[pathlib.Path]:
+    toml, figures = GALLERY[name]
+    problem = bc.load_problem(ROOT / "examples" / toml)
+    result = problem.solve()
+    with tempfile.TemporaryDirectory() as tmp:
+        problem.write(result, pathlib.Path(tmp) / "run")
+        made = []
+        for src, dst in figures.items():
+            made.append(pathlib.Path(shutil.copy(pathlib.Path(tmp) / "run" / src, out / dst)))
+    print(f"{toml}: normal force {result.normal_force:.6g}, frame {result.frame.counts()}; "
+          + ", ".join(p.name for p in made))
+    return made
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--out", type=pathlib.Path, default=FIGURES)
+    ap.add_argument("--only", action="append", choices=sorted(GALLERY))
+    args = ap.parse_args(argv)
+    for name in args.only or GALLERY:
+        make(name, args.out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
