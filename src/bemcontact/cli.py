@@ -8,7 +8,7 @@
     bemcontact bench two-cubes --divisions K [--case similar|dissimilar] [--method M] [--eps E]
                                [--json FILE]
     bemcontact sweep PROBLEM.toml --out DIR [--vary KEY=VALUES ...] [--scheduler ADDRESS]
-                     [--workers N] [--threads N] [--quiet] [--debug]
+                     [--workers N] [--threads N] [--timeout S] [--quiet] [--debug]
     bemcontact --version
 
 Exit codes: 0 solved; 2 bad input (problem file, meshes, command line) or
@@ -515,6 +515,8 @@ def _sweep_parser(sub) -> None:
                     help="worker processes of the local cluster (default: the cores)")
     sw.add_argument("--threads", metavar="N", type=_threads,
                     help="threads of each point's solve (default 1)")
+    sw.add_argument("--timeout", metavar="SECONDS", type=float, default=10.0,
+                    help="how long to wait for the scheduler (default 10)")
     sw.add_argument("--quiet", action="store_true", help="print nothing on success")
     sw.add_argument("--debug", action="store_true", help="show tracebacks of errors")
 
@@ -540,7 +542,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
     try:
         opts = SweepOptions(scheduler=args.scheduler or "", workers=args.workers,
-                            threads=args.threads or 1)
+                            threads=args.threads or 1, timeout=args.timeout)
         result = run_sweep(args.problem, args.out, vary=args.vary, options=opts,
                            progress=progress, started=started)
     except (BemcontactError, OSError) as exc:

@@ -3,6 +3,8 @@ damaged or foreign entries detected and rebuilt, never used."""
 
 from __future__ import annotations
 
+import shutil
+
 import pytest
 
 import bemcontact as bc
@@ -19,16 +21,24 @@ def _solve(pf, cache):
     return cp.solve(pf.options, condensed=cond)
 
 
-@pytest.fixture()
-def setup(tmp_path):
-    pf = bc.load_problem(tiny_problem(tmp_path))
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """A fresh solve and the cache entries of its two bodies."""
+    tmp = tmp_path_factory.mktemp("cache")
+    pf = bc.load_problem(tiny_problem(tmp))
     fresh = ContactProblem(*pf.bodies, pf.pair).solve(pf.options)
-    cache = BodyCache(tmp_path / "cache")
+    cache = BodyCache(tmp / "cache")
     _close(_solve(pf, cache), fresh)
     assert (cache.misses, cache.hits, cache.rejected) == (2, 0, 0)
+    return tmp / "cache", fresh
+
+
+@pytest.fixture()
+def setup(tmp_path, built):
+    shutil.copytree(built[0], tmp_path / "cache")
     entries = sorted((tmp_path / "cache").glob("*.condensed"))
     assert len(entries) == 2
-    return tmp_path, fresh, entries
+    return tmp_path, built[1], entries
 
 
 def test_second_process_reads_the_bodies(setup):

@@ -204,7 +204,7 @@ def test_unreachable_scheduler(tmp_path, capsys):
     path = tiny_problem(tmp_path)
     out = tmp_path / "out"
     code = main(["sweep", str(path), "--vary", f"{MU}=0.1", "--out", str(out), "--scheduler",
-                 "tcp://127.0.0.1:9"])
+                 "tcp://127.0.0.1:9", "--timeout", "1"])
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1, err
     assert err.startswith("bemcontact: error: cannot reach the Dask scheduler at "
@@ -234,3 +234,57 @@ def test_options_checked():
                        match=r"^SweepOptions\.retries must be an integer in \[0, 100\], got -1$"):
         SweepOptions(retries=-1)
     assert SweepOptions().threads == 1 and SweepOptions().workers is None
+
+
+def test_worker_killed_during_a_task_is_rerun(tmp_path, swept):
+    """A real worker process killed (SIGKILL) while it runs a point: Dask
+    runs the task again on a restarted or other worker and the table is
+    complete, with the same numbers."""
+    _, path, ref, _ = swept
+    marker = tmp_path / "killed"
+
+    class KillOnce(distributed.WorkerPlugin):
+        """Kills its worker process when p0002 starts executing, once."""
+
+        def setup(self, worker):
+            self.worker = worker
+
+        def transition(self, key, start, finish, **kwargs):
+            import os
+            import signal
+
+            if finish == "executing" and "p0002" in str(key):
+                try:
+                    fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+                except FileExistsError:
+                    return
+                os.write(fd, str(os.getpid()).encode())
+                os.close(fd)
+                os.kill(os.getpid(), signal.SIGKILL)
+
+    with (distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=50) as cluster,
+          distributed.Client(cluster) as c):
+        c.register_plugin(KillOnce())
+        pids = set(c.run(lambda: __import__("os").getpid()).values())
+        result = run_sweep(path, tmp_path / "out", vary=VARY, client=c)
+    assert int(marker.read_text()) in pids  # a worker of this cluster was killed
+    assert [r["status"] for r in result.rows] == ["ok"] * 4
+    for a, b in zip(result.rows, ref.rows):
+        for k in NUMBERS:
+            assert abs(a[k] - b[k]) <= 1e-10 * abs(b["normal_force"]), (k, a[k], b[k])
+    assert len(read_table(tmp_path / "out" / "table.csv")) == 4
+
+
+def test_command_line_local_cluster(tmp_path, capsys, swept):
+    """Without --scheduler: a local cluster of worker processes."""
+    _, path, ref, _ = swept
+    out = tmp_path / "out"
+    code = main(["sweep", str(path), "--vary", VARY[0], "--vary", VARY[1], "--out", str(out),
+                 "--workers", "1"])
+    captured = capsys.readouterr()
+    assert code == 0, captured.err
+    assert f"sweep of {path}: 4 point(s)" in captured.err
+    rows = read_table(out / "table.csv")
+    assert [float(r["normal_force"]) for r in rows] == pytest.approx(
+        [r["normal_force"] for r in ref.rows], rel=1e-10, abs=0)
