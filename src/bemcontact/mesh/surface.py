@@ -313,9 +313,13 @@ class SurfaceMesh:
 
     def signed_volume(self, elements: np.ndarray | None = None) -> float:
         """Volume enclosed by (a closed part of) the surface, V = 1/3 ∮ x·n dS;
-        negative when the normals point inward."""
+        negative when the normals point inward.  x is taken from a node of the
+        surface (the same for a closed one): far from the origin (1e12) the
+        absolute x cancelled to a wrong sign."""
         q = self.surface_quadrature(4, elements)
-        return float(np.einsum("eqk,eqk,eq->", q.points, q.normals, q.weights) / 3.0)
+        first = self.elements[0 if elements is None else np.asarray(elements).ravel()[0], 0]
+        x = q.points - self.nodes[first]
+        return float(np.einsum("eqk,eqk,eq->", x, q.normals, q.weights) / 3.0)
 
     def surface_quadrature(self, order: int = 4, elements: np.ndarray | None = None):
         """Gauss points of the elements: a :class:`SurfaceQuadrature` with
