@@ -515,7 +515,7 @@ def _sweep_parser(sub) -> None:
                     help="worker processes of the local cluster (default: the cores)")
     sw.add_argument("--threads", metavar="N", type=_threads,
                     help="threads of each point's solve (default 1)")
-    sw.add_argument("--timeout", metavar="SECONDS", type=float, default=10.0,
+    sw.add_argument("--timeout", metavar="SECONDS", type=float,
                     help="how long to wait for the scheduler (default 10)")
     sw.add_argument("--quiet", action="store_true", help="print nothing on success")
     sw.add_argument("--debug", action="store_true", help="show tracebacks of errors")
@@ -541,8 +541,8 @@ def _sweep(args: argparse.Namespace) -> int:
                   file=sys.stderr)
 
     try:
-        opts = SweepOptions(scheduler=args.scheduler or "", workers=args.workers,
-                            threads=args.threads or 1, timeout=args.timeout)
+        given = {k: getattr(args, k) for k in ("scheduler", "workers", "threads", "timeout")}
+        opts = SweepOptions(**{k: v for k, v in given.items() if v is not None})
         result = run_sweep(args.problem, args.out, vary=args.vary, options=opts,
                            progress=progress, started=started)
     except (BemcontactError, OSError) as exc:

@@ -83,16 +83,22 @@ def write_table(out: pathlib.Path, keys: list[str], rows: list[dict]) -> list[pa
 
     files = [out / "table.csv"]
     _atomic(files[0], csv_file)
-    if importlib.util.find_spec("pyarrow") is not None:
+    try:
         import pyarrow
         import pyarrow.parquet
+    except ImportError:
+        return files
 
-        data = {c: [r.get(c) if not isinstance(r.get(c), (list, tuple)) else _cell(r.get(c))
-                    for r in rows] for c in cols}
-        table = pyarrow.table({c: pyarrow.array(v, from_pandas=True) if v else pyarrow.array([])
-                               for c, v in data.items()})
-        files.append(out / "table.parquet")
-        _atomic(files[1], lambda tmp: pyarrow.parquet.write_table(table, tmp))
+    def column(values):
+        values = [_cell(v) if isinstance(v, (list, tuple)) else v for v in values]
+        try:
+            return pyarrow.array(values)
+        except (TypeError, ValueError, OverflowError):  # mixed types: as text
+            return pyarrow.array([None if v is None else _cell(v) for v in values])
+
+    table = pyarrow.table({c: column([r.get(c) for r in rows]) for c in cols})
+    files.append(out / "table.parquet")
+    _atomic(files[1], lambda tmp: pyarrow.parquet.write_table(table, tmp))
     return files
 
 
