@@ -288,3 +288,35 @@ def test_command_line_local_cluster(tmp_path, capsys, swept):
     rows = read_table(out / "table.csv")
     assert [float(r["normal_force"]) for r in rows] == pytest.approx(
         [r["normal_force"] for r in ref.rows], rel=1e-10, abs=0)
+
+
+def test_interrupted_then_resumed(tmp_path, client, swept):
+    """Ctrl-C after the first finished point: the table holds the finished
+    points, and the same command computes only the others."""
+    _, path, ref, _ = swept
+    out = tmp_path / "out"
+
+    def interrupt(done, total, row):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(path, out, vary=VARY, client=client, progress=interrupt)
+    finished = read_table(out / "table.csv")
+    assert len(finished) == 1 and finished[0]["status"] == "ok"
+    assert len(list((out / "records").glob("*.json"))) == 1
+    result = run_sweep(path, out, vary=VARY, client=client)
+    assert (result.computed, result.resumed) == (3, 1)
+    assert [r["normal_force"] for r in result.rows] == pytest.approx(
+        [r["normal_force"] for r in ref.rows], rel=1e-10, abs=0)
+
+
+def test_command_line_failed_point_exit_3(tmp_path, client, capsys):
+    out = tmp_path / "out"
+    code = main(["sweep", str(tiny_problem(tmp_path)), "--vary", f"{MU}=0.01",
+                 "--vary", "solver.max_iterations=50,2", "--out", str(out),
+                 "--scheduler", client.scheduler.address])
+    captured = capsys.readouterr()
+    assert code == 3
+    assert "2 point(s), 1 ok, 1 failed" in captured.out
+    assert "p0002: not converged: contact solve did not converge" in captured.err
+    assert [r["status"] for r in read_table(out / "table.csv")] == ["ok", "not converged"]
