@@ -31,7 +31,7 @@ import numpy as np
 
 from ..bem.conditions import Displacement, Force, Pressure
 from ..contact.reuse import FRAME_FIELDS
-from ..errors import BemcontactError, ConfigError
+from ..errors import BemcontactError, BemcontactWarning, ConfigError
 from ..problemfile import load_problem
 from ..problemfile import schema
 from ..problemfile.checks import Checker, a_type, one_line, suggest
@@ -307,9 +307,8 @@ def check_points(chk: Checker, path: pathlib.Path, points: list[Point]) -> None:
             f = pathlib.Path(tmp) / path.name
             f.write_text(p.text, encoding="utf-8")
             try:
-                with warnings.catch_warnings():
-                    if p.index:  # warnings (figures skipped) once, for the first point
-                        warnings.simplefilter("ignore")
+                with warnings.catch_warnings():  # the base file's load has warned once
+                    warnings.simplefilter("ignore", BemcontactWarning)
                     pf = load_problem(f, check_overlap=False)
             except BemcontactError as exc:
                 text = one_line(str(exc)).replace(os.fspath(f), "", 1).lstrip(": ")
