@@ -36,10 +36,20 @@ Frame discretization (the rule, see docs/frame.md for the comparison)
       f_2 = D_2 Q lam,   f_1 = -D_1 Q lam                 (frame equilibrium)
       a_j k_j = Q_j^T [D_2^T x_2 - D_1^T x_1]_j           (weighted gap / slip)
 
-  with a_j = ∫ N_j dS over the common area.  Because sum_p phi_p = 1,
-  sum_p D_1[p, j] = sum_q D_2[q, j] = a_j for *any* pair of meshes, which is
-  the frame-equilibrium condition (*) of docs/frame.md: the contact patch
-  test is passed to quadrature precision on arbitrary non-matching meshes.
+  with a_j = ∫ N_j dS over the common area, or, projected (the default),
+  the nodal values of the relative displacement's L2 projection on the
+  frame basis, with M_f = ∫ N_i N_j over the common area:
+
+      k_j = Q_j^T [M_f^-1 (D_2^T x_2 - D_1^T x_1)]_j      (projected)
+
+  The weighted form spreads each node's contact and stick condition over
+  its support (two elements), which smears the contact edge and the
+  stick-slip front; the projected form keeps them nodal (docs/frame.md).
+  Because sum_p phi_p = 1, sum_p D_1[p, j] = sum_q D_2[q, j] = a_j for
+  *any* pair of meshes, which is the frame-equilibrium condition (*) of
+  docs/frame.md: the contact patch test is passed to quadrature precision on
+  arbitrary non-matching meshes, with either form (the projection
+  reproduces the linear relative displacement of the patch test exactly).
 * Rule ``"collocation"`` (the paper's point evaluation, kept for comparison):
   D_a[p, j] = w_p N_j(xi_p), with xi_p the projection of body node p on the
   frame and w_p = ∫ phi_p.  Condition (*) then fails on non-matching meshes,
@@ -116,6 +126,10 @@ class ContactFrame:
     nodes: (n_1,), (n_2,) the contact functional nodes of each body.
     D: (n_1, m), (n_2, m) coupling matrices (``scipy.sparse`` CSR arrays).
     M: (n_1, n_1), (n_2, n_2) consistent interface mass matrices (sparse CSC).
+    mass: (m, m) the frame's consistent mass ∫ N_i N_j over the common area
+    (sparse CSC; its row sums are the weights).  projected: whether the
+    nodal law acts on the projected relative displacement M_f^-1 ∫ N [u]
+    (True, rule "mortar") or on the weighted one diag(a)^-1 ∫ N [u].
     projection: per body, (element of the frame-owner surface, xi) of each
     contact node's projection on the frame (xi_p), and whether it falls on
     the frame.
@@ -134,6 +148,7 @@ class ContactFrame:
         search_distance: float | None = None,
         owner: int | None = None,
         between: bool = False,
+        projected: bool = True,
     ) -> None:
         if rule not in ("mortar", "collocation"):
             raise ConfigError(f"frame rule must be 'mortar' or 'collocation', got {rule!r}")
@@ -147,6 +162,9 @@ class ContactFrame:
             raise ConfigError(f"frame owner must be None, 0 or 1, got {owner!r}")
         self.rule = rule
         self.between = bool(between)
+        #: the nodal law acts on the relative displacement projected on the
+        #: frame basis (M_f k = ∫ N [u]) rather than weighted (a_j k_j = ∫ N_j [u])
+        self.projected = bool(projected) and rule == "mortar"
         self.names = names
         s = (_surface(disc1, surface1, names[0]), _surface(disc2, surface2, names[1]))
         for a in range(2):
@@ -339,6 +357,12 @@ class ContactFrame:
         Dt = coupling(pt, phit, oth.nodes.size)
         self.weights = np.zeros(m)
         np.add.at(self.weights, jf, w[:, None] * Nf)
+        # the frame's consistent mass over the common area, ∫ N_i N_j (its
+        # row sums are the weights)
+        val = wN[:, :, None] * Nf[:, None, :]
+        self.mass = scipy.sparse.coo_array(
+            (val.ravel(), (np.broadcast_to(jf[:, :, None], val.shape).ravel(),
+                           np.broadcast_to(jf[:, None, :], val.shape).ravel())), shape=(m, m)).tocsc()
         self.common_area = float(w.sum())
         D = [None, None]
         D[self.owner], D[1 - self.owner] = Do, Dt

@@ -10,12 +10,13 @@ import math
 
 import numpy as np
 import scipy.sparse
+import scipy.sparse.linalg
 
 from ..errors import ConfigError
 from ..mesh.element import element_geometry
 from . import law
 from .frame import ContactFrame
-from .modes import TractionModes
+from .modes import CHUNK, TractionModes
 from .search import locate
 
 
@@ -54,6 +55,43 @@ def _balance(force, target: float, step: float) -> float | None:
     return None
 
 
+class RelativeDisplacement:
+    """The relative displacement k (3m, local components) from the nodal
+    forces' work rows g = Bᵀ x (∫ N_j [u] per frame node, local
+    components): ``weighted``, k_j = g_j / a_j; ``projected``, k = Qᵀ (M_f^-1
+    ⊗ I_3) Q g, the nodal values of the L2 projection on the frame basis
+    (rotated to global components first: the nodes' bases differ on a
+    curved frame).  Called on (3m,) or (3m, r) arrays; a (3m, r) array is
+    overwritten in blocks of :data:`~bemcontact.contact.modes.CHUNK`
+    columns (no copy of a (3m)² block)."""
+
+    def __init__(self, frame: ContactFrame, act: np.ndarray) -> None:
+        self.m = act.size
+        self.a3 = np.repeat(frame.weights[act], 3)
+        self.lu = None
+        if frame.projected and self.m:
+            self.Q = frame.Q[act]
+            self.lu = scipy.sparse.linalg.splu(scipy.sparse.csc_array(frame.mass[np.ix_(act, act)]))
+
+    def _project(self, G: np.ndarray) -> np.ndarray:
+        m, r = self.m, G.shape[1]
+        g = np.einsum("jcl,jlr->jcr", self.Q, G.reshape(m, 3, r))  # global components
+        g = self.lu.solve(np.asfortranarray(g.reshape(m, 3 * r))).reshape(m, 3, r)
+        return np.einsum("jcl,jcr->jlr", self.Q, g).reshape(3 * m, r)
+
+    def __call__(self, G) -> np.ndarray:
+        G = np.asarray(G, dtype=float)
+        if self.lu is None:
+            return G / (self.a3 if G.ndim == 1 else self.a3[:, None])
+        if G.ndim == 1:
+            return self._project(G[:, None])[:, 0]
+        if not G.flags.writeable:
+            G = G.copy()
+        for s in range(0, G.shape[1], CHUNK):
+            G[:, s : s + CHUNK] = self._project(G[:, s : s + CHUNK])
+        return G
+
+
 class InterfaceSystem:
     """The nonsmooth interface system of eq. 17 after condensing both bodies:
     unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2,
@@ -81,7 +119,7 @@ class InterfaceSystem:
         #: an aggregated system's prolongation (3m_fine, 3m) and restriction
         #: (3m, 3m_fine) of tractions (:meth:`aggregated`); None here
         self.prolongation = self.restriction = None
-        a3 = np.repeat(a, 3)[:, None]
+        weigh = RelativeDisplacement(frame, act)
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
         k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
@@ -98,10 +136,10 @@ class InterfaceSystem:
                     f"{c.body.name}: condense the body on the frame's traction modes "
                     "(condense(..., modes=traction_modes(frame)[i]))"
                 )
-            # nodal forces per frame traction B (signed), weighted gap rows
-            # W = diag(1/a) B^T: k = sum_a W_a x_a[dofs]
+            # nodal forces per frame traction B (signed); the relative
+            # displacement k = sum_a W_a x_a[dofs], W_a = weigh(B_a^T)
             Bt = c.modes.B.T  # (3m, 3n) sparse
-            K += (Bt @ c.F) / a3
+            K += weigh(Bt @ c.F)
             if frame.rule == "mortar":
                 # positions: exact for any overlap because (*) holds
                 X = c.body.discretization.points[c.nodes].ravel()
@@ -110,11 +148,11 @@ class InterfaceSystem:
                 # node's offset to the frame surface (the paper's g0), so the
                 # position of the origin does not enter
                 X = frame.offsets(i).ravel()
-            k0X += (Bt @ X) / a3[:, 0]
-            k0u += (Bt @ c.u0) / a3
+            k0X += weigh(Bt @ X)
+            k0u += weigh(Bt @ c.u0)
             BtR = Bt @ c.Rc
-            self.L.append(BtR / a3)
-            self.L.append((Bt @ c.Yc) / a3)
+            self.L.append(weigh(BtR))
+            self.L.append(weigh(Bt @ c.Yc))
             # equilibrium in the free rigid modes, scaled to traction units
             self.E.append(BtR.T)
             self.CT.append(c.C @ c.X)  # (C X) first: C has a row per control
@@ -375,4 +413,4 @@ class InterfaceSystem:
         return self._located[i]
 
 
-__all__ = ["InterfaceSystem", "traction_modes"]
+__all__ = ["InterfaceSystem", "RelativeDisplacement", "traction_modes"]

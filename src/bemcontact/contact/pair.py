@@ -12,6 +12,8 @@ from ..settings import Key, check_settings, setting
 FRAME_ON = ("coarser", "between", "body1", "body2")
 #: Values of :attr:`ContactPair.frame`.
 FRAME_RULES = ("mortar", "collocation")
+#: Values of :attr:`ContactPair.relative_displacement`.
+RELATIVE_DISPLACEMENTS = ("projected", "weighted")
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,17 @@ class ContactPair:
         friction resists (measured: tangential tractions of 0.19 p0 under a
         purely normal load on the hemisphere of docs/validation.md, 0 on the
         block's frame).
+    relative_displacement:
+        What the nodal contact law acts on (docs/frame.md): ``"projected"``
+        (default) the L2 projection of the bodies' relative displacement on
+        the frame's linear basis, M_f k = ∫ N [u] (M_f the frame's consistent
+        mass), so that k_j is the value at node j; or ``"weighted"`` its
+        average over the node's support, a_j k_j = ∫ N_j [u] (the weighted
+        gap of mortar methods), which spreads each stick or contact
+        condition over two elements and smears the stick-slip front and the
+        contact edge (Cattaneo–Mindlin traction error 12 % against 3.9 %
+        projected at a/h = 12).  ``frame = "collocation"`` (the paper's point
+        evaluation, for comparison) always takes the weighted one.
     """
 
     surface1: str
@@ -68,6 +81,11 @@ class ContactPair:
     frame_on: str = setting(Key(
         "frame_on", "string", "which surface carries the frame", default="coarser",
         choices=FRAME_ON))
+    relative_displacement: str = setting(Key(
+        "relative_displacement", "string", "what the nodal contact law acts on: the relative "
+        "displacement `projected` on the frame's linear basis (nodal values) or `weighted` "
+        "over each node's support (mortar weighted gap)", default="projected",
+        choices=RELATIVE_DISPLACEMENTS))
 
     def __post_init__(self) -> None:
         for name in ("surface1", "surface2"):
@@ -77,4 +95,4 @@ class ContactPair:
         check_settings(self)
 
 
-__all__ = ["ContactPair", "FRAME_ON", "FRAME_RULES"]
+__all__ = ["ContactPair", "FRAME_ON", "FRAME_RULES", "RELATIVE_DISPLACEMENTS"]

@@ -135,6 +135,7 @@ class ContactProblem:
                 search_distance=self.pair.search_distance,
                 owner={"body1": 0, "body2": 1}.get(self.pair.frame_on),
                 between=self.pair.frame_on == "between",
+                projected=self.pair.relative_displacement == "projected",
             )
         return self._frame
 

@@ -576,7 +576,8 @@ class _Reader(Checker):
         try:
             pair = ContactPair(surfaces[0], surfaces[1],
                                friction_coefficient=f["friction_coefficient"], frame=f["frame"],
-                               search_distance=f.get("search_distance"), frame_on=frame_on)
+                               search_distance=f.get("search_distance"), frame_on=frame_on,
+                               relative_displacement=f["relative_displacement"])
         except BemcontactError as exc:  # pragma: no cover - checked above
             self.wrap("contact", exc, value)
         return (order[0], order[1]), (surfaces[0], surfaces[1]), pair, f.get("penalty")

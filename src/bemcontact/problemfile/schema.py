@@ -194,7 +194,8 @@ CONTACT = Key(
             default_text="the `[[body]]` order"),
         Key("surfaces", "strings", "the contact surface (a region) of body 1, then of body 2",
             True, length=2),
-        *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance"),
+        *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance",
+                 "relative_displacement"),
         Key("frame_on", "string", "which surface carries the frame (its normals define gap "
             "and slip): `between` the two surfaces (midway, normals bisecting theirs), "
             "`coarser` or a body name (on that surface)", default="coarser"),

@@ -172,26 +172,36 @@ def two_spheres(
     order: int = 1,
     friction_coefficient: float = 0.0,
     frame_on: str = "coarser",
+    upper_radius: float | None = None,
 ) -> ContactProblem:
-    """Two identical hemispheres (radius, materials and mesh grading of
-    ``setup``), apexes on the z axis ``gap`` apart (the lower one's at
-    z = -gap/2, flat base clamped; the upper one's at z = +gap/2), the upper
-    base pushed down by ``gap + approach`` (displacement control; Coulomb
-    friction ``friction_coefficient``, the frame placed by ``frame_on``).  The bodies start apart: the frame pairs the surfaces
-    by normal projection within ``gap + 1.2 fine_radius^2 / R`` (the
-    initial gap over the fine zone) and the contact closes under load.
-    Hertz with R_eff = R/2: a = sqrt(R approach / 2)."""
+    """Two hemispheres (radius, materials and mesh grading of ``setup``),
+    apexes on the z axis ``gap`` apart (the lower one's at z = -gap/2, flat
+    base clamped; the upper one's at z = +gap/2), the upper base pushed down
+    by ``gap + approach`` (displacement control; Coulomb friction
+    ``friction_coefficient``, the frame placed by ``frame_on``).  With
+    ``upper_radius`` R2 the upper body is the cap of height R of a sphere
+    of radius R2 (two convex spheres of different radii).  The bodies start
+    apart: the frame pairs the surfaces by normal projection within
+    ``gap + 0.6 fine_radius^2 (1/R + 1/R2)`` (the initial gap over the fine
+    zone) and the contact closes under load.  Hertz with R_eff = R R2 /
+    (R + R2) (R/2 for identical spheres): a = sqrt(R_eff approach)."""
     s = _setup("two_spheres", setup, fine_size)
     for name, v in (("gap", gap), ("approach", approach)):
         if not (isinstance(v, (int, float)) and 0 <= v < s.radius):
             raise ConfigError(f"two_spheres: {name} must be in [0, R = {s.radius:g}), got {v!r}")
-    caps = [_hemisphere(s, fine_size, side * 0.5 * gap, side, order) for side in (-1, 1)]
+    r2 = s.radius if upper_radius is None else upper_radius
+    if not (isinstance(r2, (int, float)) and math.isfinite(r2) and r2 >= s.radius):
+        raise ConfigError(f"two_spheres: upper_radius must be a number >= R = {s.radius:g}, got {r2!r}")
+    caps = [_hemisphere(s, fine_size, -0.5 * gap, -1, order),
+            geometry.spherical_cap(r2, s.radius, apex=(0.0, 0.0, 0.5 * gap), axis=1,
+                                   fine_size=fine_size, coarse_size=s.coarse_size, order=order,
+                                   **s.grading())]
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     lower = ElasticBody(caps[0], mat, {"base": Fixed()}, name="lower")
     upper = ElasticBody(
         caps[1], mat, {"base": Displacement((0.0, 0.0, -float(gap + approach)))}, name="upper"
     )
-    search = gap + 1.2 * s.fine_radius**2 / s.radius
+    search = gap + 0.6 * s.fine_radius**2 * (1.0 / s.radius + 1.0 / r2)
     pair = ContactPair("contact", "contact", friction_coefficient, search_distance=search,
                        frame_on=frame_on)
     return ContactProblem(lower, upper, pair)

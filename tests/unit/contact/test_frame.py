@@ -238,6 +238,56 @@ def test_mortar_weighted_gap_of_a_rigid_translation(name):
     np.testing.assert_allclose(k, np.broadcast_to(c, k.shape), rtol=0, atol=TOL)
 
 
+@pytest.mark.parametrize("name", list(NON_MATCHING))
+def test_projected_relative_displacement_is_nodal_for_an_affine_field(name):
+    """k = Q^T (M_f^-1 ⊗ I) [D_2^T x_2 - D_1^T x_1]: with body 2 displaced
+    by an affine field u(x) = c + G x (a tilt and a strain: what the patch
+    test's bodies do), k_j is the relative displacement at frame node j
+    itself, at the boundary nodes too (the L2 projection reproduces linear
+    fields; measured <= 1.3e-14).  The weighted form is the mean over each
+    node's support: exact inside for a linear field on a symmetric patch,
+    off by O(|G| h) at the boundary nodes (measured 0.004-0.013; asserted
+    > 1e-3, so that the two forms differ where the test can see it)."""
+    from bemcontact.contact.interface import RelativeDisplacement
+
+    n1, t1, n2, t2 = NON_MATCHING[name]
+    f = _frame(*NON_MATCHING[name], rule="mortar")
+    assert f.projected
+    c = np.array([0.01, -0.02, 0.03])
+    G = np.array([[0.02, 0.01, 0.0], [-0.01, 0.03, 0.0], [0.015, -0.025, 0.0]])
+    x1 = _disc(True, n1, t1).points[f.nodes(0)]
+    X2 = _disc(False, n2, t2).points[f.nodes(1)]
+    x2 = X2 + c + X2 @ G.T
+    act = np.flatnonzero(f.active)
+    g = np.einsum("jdl,jd->jl", f.Q, f.D[1].T @ x2 - f.D[0].T @ x1)[act].ravel()
+    k = RelativeDisplacement(f, act)(g).reshape(-1, 3)
+    y = f.points[act]  # frame nodes (on body 1's face z = 1, body 2's rests on it)
+    exact = np.einsum("jdl,jd->jl", f.Q[act], (y + c + y @ G.T) - y)
+    np.testing.assert_allclose(k, exact, rtol=0, atol=TOL)
+    weighted = (g / np.repeat(f.weights[act], 3)).reshape(-1, 3)
+    assert np.abs(weighted - exact).max() > 1e-3
+
+
+def test_projected_frame_mass_rows_sum_to_the_weights():
+    """M_f 1 = a (the basis sums to one on the common area), M_f symmetric
+    positive definite on the active nodes: its smallest eigenvalue relative
+    to the lumped mass diag(a) is 1/9 here (the Q1 mass's; measured
+    0.1111), asserted > 0.05."""
+    f = _frame(*NON_MATCHING["quad4 7/11"], rule="mortar")
+    M = f.mass.toarray()
+    np.testing.assert_allclose(M.sum(axis=1), f.weights, rtol=1e-13)
+    np.testing.assert_allclose(M, M.T, rtol=0, atol=1e-15 * M.max())
+    act = f.active
+    lo = np.linalg.eigvalsh(M[np.ix_(act, act)] / np.sqrt(np.outer(f.weights[act], f.weights[act])))
+    assert lo.min() > 0.05
+
+
+def test_collocation_takes_the_weighted_relative_displacement():
+    f = ContactFrame(_disc(True, 3, "quad4"), "zmax", _disc(False, 4, "quad4"), "zmin",
+                     "collocation", projected=True)
+    assert not f.projected
+
+
 def test_accessors():
     n1, t1, n2, t2 = NON_MATCHING["quad4/tri3"]
     f = _frame(n1, t1, n2, t2)
