@@ -320,3 +320,28 @@ def test_command_line_failed_point_exit_3(tmp_path, client, capsys):
     assert "2 point(s), 1 ok, 1 failed" in captured.out
     assert "p0002: not converged: contact solve did not converge" in captured.err
     assert [r["status"] for r in read_table(out / "table.csv")] == ["ok", "not converged"]
+
+
+def test_bodies_far_from_the_origin(tmp_path, client):
+    """As bemcontact run: solved relative to the bodies' own origin and the
+    results written at their position (frame.csv equal to a separate run's)."""
+    path = tiny_problem(tmp_path)
+    text = path.read_text()
+    for a, b in (("[0, 0, 0], upper = [2, 2, 2]", "[1000, 0, 0], upper = [1002, 2, 2]"),
+                 ("[0, 0, 2], upper = [2, 2, 4]", "[1000, 0, 2], upper = [1002, 2, 4]")):
+        assert a in text
+        text = text.replace(a, b)
+    path.write_text(text)
+    pf = bc.load_problem(path)
+    assert pf.origin is not None  # the case of problemfile/origin.py
+    result = run_sweep(path, tmp_path / "out", vary=[f"{MU}=0.01"], client=client)
+    assert result.rows[0]["status"] == "ok"
+    assert main(["run", str(tmp_path / "out" / "points" / "p0001.toml"), "--out",
+                 str(tmp_path / "run"), "--quiet", "--threads", "1"]) == 0
+
+    def frame(d):
+        return np.loadtxt(d / "frame.csv", delimiter=",", skiprows=1)
+
+    got, want = frame(tmp_path / "out" / "points" / "p0001"), frame(tmp_path / "run")
+    assert got.shape == want.shape and want[:, 0].min() >= 1000.0  # x at the bodies' position
+    assert np.abs(got - want).max() <= 1e-10 * np.abs(want).max()
