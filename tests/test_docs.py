@@ -237,3 +237,24 @@ def test_gallery_shows_every_example():
     missing = [e for e in examples if f"examples/{e}" not in text]
     assert not missing, f"gallery.md does not show {missing}"
     assert len(MD_IMAGE.findall(text)) >= 7
+
+
+def test_griffe_extension_rewrites_colon_entries_for_the_numpy_parser(built_site):
+    """docs/griffe_sections.py: ``name: what`` entries become NumPy entries,
+    a section's closing paragraph becomes Notes, roles become code; in the
+    built page a description sits in the description column."""
+    sys.path.insert(0, str(DOCS))
+    try:
+        from griffe_sections import rewrite
+    finally:
+        sys.path.remove(str(DOCS))
+    text = ("Do it.\n\nParameters\n----------\nmesh: the :class:`~bemcontact.mesh.SurfaceMesh`.\n"
+            "size, order: two numbers,\n    on two lines.\n\nRegions: xmin, xmax.\n")
+    assert rewrite(text) == (
+        "Do it.\n\nParameters\n----------\nmesh\n    the `SurfaceMesh`.\nsize, order\n"
+        "    two numbers,\n    on two lines.\n\nNotes\n-----\nRegions: xmin, xmax.\n")
+    page = (built_site / "api.html").read_text(encoding="utf-8")
+    row = re.search(r'title="bemcontact\.problemfile\.reader\.ProblemFile\.path">path</span>'
+                    r'.*?doc-md-description">(.*?)</div>', page, flags=re.S)
+    assert row and "the problem file." in row.group(1), row and row.group(1)
+    assert ":class:" not in page
