@@ -296,8 +296,9 @@ def _describe(problem) -> str:
     pair = problem.pair
     lines.append(
         f"  contact: {problem.bodies[0].name}.{pair.surface1} - {problem.bodies[1].name}."
-        f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame on "
-        f"{pair.frame_on}: {int(np.count_nonzero(frame.active))} active frame nodes"
+        f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame "
+        f"{frame.placement} (frame_on = {pair.frame_on}): "
+        f"{int(np.count_nonzero(frame.active))} active frame nodes"
     )
     steps = problem.steps
     lines.append(

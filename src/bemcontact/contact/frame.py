@@ -100,6 +100,22 @@ def _surface(disc: Discretization, region: str, who: str) -> _Surface:
     return _Surface(disc, elements, nodes, local)
 
 
+#: A contact surface is flat when its element normals (at the centroids)
+#: deviate from their mean by less than this (1 - cos of the angle: about
+#: 1.4e-5 rad); a sphere of radius R meshed at h has angles of order h/R.
+FLAT_TOLERANCE = 1e-10
+
+
+def _is_flat(sf: _Surface) -> bool:
+    mesh = sf.disc.mesh
+    cen = np.tile(np.array([1 / 3, 1 / 3]) if mesh.element_type.startswith("tri") else np.zeros(2),
+                  (sf.elements.size, 1))
+    _, n, _ = mesh.map(sf.elements, cen)
+    mean = n.sum(axis=0)
+    norm = np.linalg.norm(mean)
+    return bool(norm > 0 and (1.0 - (n @ (mean / norm)).min()) < FLAT_TOLERANCE)
+
+
 def _smooth_normals(disc: Discretization, elements: np.ndarray, xi: np.ndarray) -> np.ndarray:
     """Unit normals (P, 3) interpolated from the functional nodes' normals
     (averaged over the elements at shared nodes) at ``xi`` in ``elements``:
@@ -147,7 +163,7 @@ class ContactFrame:
         quadrature_order: int = 6,
         search_distance: float | None = None,
         owner: int | None = None,
-        between: bool = False,
+        between: bool | str = False,
         projected: bool = True,
     ) -> None:
         if rule not in ("mortar", "collocation"):
@@ -160,8 +176,9 @@ class ContactFrame:
             )
         if owner not in (None, 0, 1):
             raise ConfigError(f"frame owner must be None, 0 or 1, got {owner!r}")
+        if between not in (True, False, "auto"):
+            raise ConfigError(f"frame between must be True, False or 'auto', got {between!r}")
         self.rule = rule
-        self.between = bool(between)
         #: the nodal law acts on the relative displacement projected on the
         #: frame basis (M_f k = ∫ N [u]) rather than weighted (a_j k_j = ∫ N_j [u])
         self.projected = bool(projected) and rule == "mortar"
@@ -172,6 +189,15 @@ class ContactFrame:
                 raise ConfigError(f"{names[a]}: contact surface is empty")
         self._s = s
         self.search_distance = self._search_distance(search_distance)
+        #: (body 1, body 2): whether each contact surface is flat
+        self.flat = (_is_flat(s[0]), _is_flat(s[1]))
+        if between == "auto":
+            # on the flat surface when one is (the small-slope contact plane of
+            # Hertz and Cattaneo-Mindlin); between two curved ones (docs/frame.md)
+            between = not any(self.flat)
+            if owner is None and self.flat[0] != self.flat[1]:
+                owner = 0 if self.flat[0] else 1
+        self.between = bool(between)
         self.owner = self._choose_owner() if owner is None else owner
         self._build_frame_nodes()
         self._integrate(quadrature_order)
@@ -192,6 +218,12 @@ class ContactFrame:
             C = mesh.nodes[mesh.elements[sf.elements, : CORNERS[mesh.element_type]]]
             sizes.append(float(np.max(C.max(axis=1) - C.min(axis=1))))
         return 0.25 * max(sizes)
+
+    @property
+    def placement(self) -> str:
+        """Where the frame lies, in words: ``between the surfaces`` or ``on
+        <body>'s surface``."""
+        return "between the surfaces" if self.between else f"on {self.names[self.owner]}'s surface"
 
     def _choose_owner(self) -> int:
         keys = []

@@ -134,7 +134,7 @@ class ContactProblem:
                 self.pair.frame, names=(b1.name, b2.name),
                 search_distance=self.pair.search_distance,
                 owner={"body1": 0, "body2": 1}.get(self.pair.frame_on),
-                between=self.pair.frame_on == "between",
+                between="auto" if self.pair.frame_on == "auto" else self.pair.frame_on == "between",
                 projected=self.pair.relative_displacement == "projected",
             )
         return self._frame

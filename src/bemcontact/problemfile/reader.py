@@ -568,11 +568,11 @@ class _Reader(Checker):
                 )
         f = self.fields("contact", t, key)
         on = f["frame_on"]
-        if on not in ("coarser", "between", *bodies):
-            choices = ("coarser", "between", *bodies)
+        if on not in ("auto", "between", "coarser", *bodies):
+            choices = ("auto", "between", "coarser", *bodies)
             self.fail("contact.frame_on", f"must be one of {', '.join(choices)}", on,
                       suggest(on, choices))
-        frame_on = on if on in ("coarser", "between") else f"body{bodies.index(on) + 1}"
+        frame_on = on if on in ("auto", "between", "coarser") else f"body{bodies.index(on) + 1}"
         try:
             pair = ContactPair(surfaces[0], surfaces[1],
                                friction_coefficient=f["friction_coefficient"], frame=f["frame"],

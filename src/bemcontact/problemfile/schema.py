@@ -196,9 +196,10 @@ CONTACT = Key(
             True, length=2),
         *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance",
                  "relative_displacement"),
-        Key("frame_on", "string", "which surface carries the frame (its normals define gap "
-            "and slip): `between` the two surfaces (midway, normals bisecting theirs), "
-            "`coarser` or a body name (on that surface)", default="coarser"),
+        Key("frame_on", "string", "where the frame lies (its normals define gap and slip): "
+            "`auto` (on the flat surface if exactly one is flat, between two curved ones, on "
+            "the coarser of two flat ones), `between` the two surfaces (midway, normals "
+            "bisecting theirs), `coarser` or a body name (on that surface)", default="auto"),
         *keys_of(SolverOptions, "penalty", penalty=dict(
             doc="this pair's augmentation factor c (overrides `solver.penalty`)",
             default=NO_DEFAULT, default_text="`solver.penalty`")),

@@ -171,7 +171,7 @@ def two_spheres(
     setup: SphereOnBlock | None = None,
     order: int = 1,
     friction_coefficient: float = 0.0,
-    frame_on: str = "coarser",
+    frame_on: str = "auto",
     upper_radius: float | None = None,
 ) -> ContactProblem:
     """Two hemispheres (radius, materials and mesh grading of ``setup``),

@@ -288,6 +288,28 @@ def test_collocation_takes_the_weighted_relative_displacement():
     assert not f.projected
 
 
+def test_auto_placement_by_flatness():
+    """frame_on = "auto": two flat faces -> on the coarser one (as
+    "coarser"); a sphere on a flat block -> on the block, whichever body is
+    named first; two spheres -> between the surfaces."""
+    from bemcontact.validation import cases
+
+    f = ContactFrame(_disc(True, 4, "quad4"), "zmax", _disc(False, 3, "quad4"), "zmin",
+                     between="auto")
+    assert f.flat == (True, True) and not f.between and f.owner == 1
+    p = cases.sphere_on_block(0.3)
+    block, sphere = p.bodies
+    for order in ((block, sphere), (sphere, block)):
+        s1 = "zmax" if order[0] is block else "contact"
+        s2 = "contact" if order[0] is block else "zmax"
+        prob = bc.ContactProblem(*order, bc.ContactPair(s1, s2, search_distance=0.05))
+        fr = prob.frame
+        assert not fr.between and fr.names[fr.owner] == "block"
+        assert fr.placement == "on block's surface"
+    s = cases.two_spheres(0.3, gap=0.0).frame
+    assert s.flat == (False, False) and s.between and s.placement == "between the surfaces"
+
+
 def test_accessors():
     n1, t1, n2, t2 = NON_MATCHING["quad4/tri3"]
     f = _frame(n1, t1, n2, t2)

@@ -198,10 +198,10 @@ def test_frame_on_chooses_the_frame_surface():
     """ContactPair.frame_on overrides the coarser-surface rule (the upper
     3 x 3 face is coarser than the lower 4 x 4 one); a bad value is refused."""
     lower, upper = _problem().bodies
-    for on, owner in (("coarser", 1), ("body1", 0), ("body2", 1)):
+    for on, owner in (("coarser", 1), ("body1", 0), ("body2", 1), ("auto", 1)):
         prob = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", MU, frame_on=on))
         assert prob.frame.owner == owner
-    with pytest.raises(bc.ConfigError, match=r"frame_on must be one of 'coarser', 'between', 'body1', 'body2', got 'lower'"):
+    with pytest.raises(bc.ConfigError, match=r"frame_on must be one of 'auto', 'between', 'coarser', 'body1', 'body2', got 'lower'"):
         bc.ContactPair("zmax", "zmin", frame_on="lower")
 
 

@@ -78,7 +78,7 @@ def test_changed_kind_of_condition_is_refused(tmp_path, base):
 
 @pytest.mark.parametrize("kw, match", [
     ({"E": "2e4"}, "body 'lower': its mesh, material or quadrature differ"),
-    ({"frame": "upper"}, "contact.frame_on is 'body2', the condensed bodies have .coarser."),
+    ({"frame": "upper"}, "contact.frame_on is 'body2', the condensed bodies have .auto."),
 ])
 def test_other_bodies_or_frame_refused(tmp_path, base, kw, match):
     _, _, cond = base
