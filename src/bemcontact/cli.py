@@ -38,7 +38,7 @@ import numpy as np
 from ._version import __version__
 from .contact.memory import machine_memory
 from .errors import BemcontactError, BemcontactWarning, ConvergenceError
-from .output.rundir import RunDirectory
+from .output.rundir import InterruptGuard, RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
 from .progress import terminal_text
@@ -162,13 +162,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     Ctrl-C ends it with one line and exit code 130 (the output directory as it
     was: :mod:`bemcontact.output.rundir`); a closed pipe (``| head``) ends it
     quietly."""
+    guard = InterruptGuard()  # Ctrl-C inside compiled code: see there
     try:
-        with warnings.catch_warnings():  # restores the filters and showwarning after
+        with guard, warnings.catch_warnings():  # restores the filters and showwarning after
             warnings.simplefilter("default", BemcontactWarning)
             warnings.showwarning = _one_line_warnings(warnings.showwarning)
-            return _main(argv)
+            return _main(argv, guard)
     except KeyboardInterrupt:
-        print("bemcontact: interrupted", file=sys.stderr)
+        if guard.claim():
+            print("bemcontact: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
     except BrokenPipeError:
         # the reader went away: nothing more to say, and nothing at exit either
@@ -191,7 +193,7 @@ def _one_line_warnings(show):
     return showwarning
 
 
-def _main(argv: Sequence[str] | None) -> int:
+def _main(argv: Sequence[str] | None, guard: InterruptGuard) -> int:
     parser = _parser()
     args = parser.parse_args(argv)
     if args.command is None:
@@ -207,7 +209,7 @@ def _main(argv: Sequence[str] | None) -> int:
         return _bench(args)
     if args.command == "sweep":
         return _sweep(args)
-    return _run(args)
+    return _run(args, guard)
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -389,12 +391,13 @@ def _progress(args: argparse.Namespace):
     return None, contextlib.nullcontext()
 
 
-def _run(args: argparse.Namespace) -> int:
+def _run(args: argparse.Namespace, guard: InterruptGuard) -> int:
     problem = None
     try:
         # the output directory is checked first (reading only), then locked
         # from the solve to the end of the write; bad input touches nothing
         out = RunDirectory(args.out, force=args.force)
+        guard.out = out
         problem = load_problem(args.problem)
         with out:
             report, shown = _progress(args)

@@ -13,10 +13,13 @@ than its neighbour toward the contact), up to ``coarse_size``.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
+import signal
 import tempfile
-from collections.abc import Callable
+import threading
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
@@ -75,6 +78,38 @@ def _mesh_with_gmsh(
         smallest = largest = mesh_size
     else:
         smallest, largest = mesh_size  # validated by the caller
+    with _interrupt_deferred() as interrupted:
+        mesh = _generate(gmsh, build, smallest, largest, order, name, size, interrupted)
+    mesh.source = name
+    return mesh.oriented().check()
+
+
+@contextlib.contextmanager
+def _interrupt_deferred() -> Iterator[Callable[[], bool]]:
+    """Ctrl-C while gmsh meshes.  Python sees the signal only in the size
+    callback, where the KeyboardInterrupt was raised into gmsh's C++ and
+    ignored ("Exception ignored on calling ctypes callback"): the run carried
+    on for minutes.  Here the signal is only noted; the callback then answers
+    the coarse size, so gmsh ends in moments, and the KeyboardInterrupt is
+    raised when it has (from the main thread; elsewhere signals are not
+    Python's)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: False
+        return
+    caught: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    try:
+        yield lambda: bool(caught)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if caught:
+        if callable(previous):
+            previous(signal.SIGINT, None)  # default: raises KeyboardInterrupt
+        elif previous != signal.SIG_IGN:
+            raise KeyboardInterrupt
+
+
+def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) -> SurfaceMesh:
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -90,7 +125,8 @@ def _mesh_with_gmsh(
                 "Mesh.MeshSizeFromCurvature",
             ):
                 gmsh.option.setNumber(option, 0)
-            gmsh.model.mesh.setSizeCallback(lambda dim, tag, x, y, z, lc: float(size(x, y, z)))
+            gmsh.model.mesh.setSizeCallback(
+                lambda dim, tag, x, y, z, lc: largest if interrupted() else float(size(x, y, z)))
         gmsh.option.setNumber("Mesh.ElementOrder", order)
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
         gmsh.model.mesh.generate(2)
@@ -109,8 +145,7 @@ def _mesh_with_gmsh(
             mesh = read_mesh(path)
     finally:
         gmsh.finalize()
-    mesh.source = name
-    return mesh.oriented().check()
+    return mesh
 
 
 def _has_triangles(gmsh) -> bool:

@@ -36,6 +36,8 @@ import os
 import pathlib
 import secrets
 import shutil
+import signal
+import threading
 from collections.abc import Iterator
 
 from .._version import __version__
@@ -76,6 +78,7 @@ class RunDirectory:
         self.force = bool(force)
         self.given = text
         self._lock_fd: int | None = None
+        self._writing = threading.Lock()
         self.check()
 
     @property
@@ -201,6 +204,19 @@ class RunDirectory:
         if not self.path.exists():
             self._remove_created()
 
+    def abandon(self) -> bool:
+        """For a process about to end at once (:class:`InterruptGuard`):
+        release the lock and remove the directories made on the way to DIR,
+        unless a run is being written (False: let that finish or fail)."""
+        if not self._writing.acquire(blocking=False):
+            return False
+        if self._lock_fd is not None:
+            with contextlib.suppress(OSError):
+                self._lock.unlink()
+        if not self.path.exists():
+            self._remove_created()
+        return True
+
     def _remove_created(self) -> None:
         for d in reversed(getattr(self, "_created", [])):
             with contextlib.suppress(OSError):
@@ -228,17 +244,19 @@ class RunDirectory:
                     yield tmp
             return
         out = self.path
-        tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(4)}"
-        tmp.mkdir()
-        try:
-            yield tmp
-            files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*") if p.is_file())
-            (tmp / MARKER).write_text(json.dumps({"bemcontact": __version__, "files": files},
-                                                 indent=1) + "\n")
-            self._swap(tmp)
-        except BaseException:
-            shutil.rmtree(tmp, ignore_errors=True)
-            raise
+        with self._writing:
+            tmp = out.parent / f".{out.name}.tmp-{secrets.token_hex(4)}"
+            tmp.mkdir()
+            try:
+                yield tmp
+                files = sorted(p.relative_to(tmp).as_posix() for p in tmp.rglob("*")
+                               if p.is_file())
+                (tmp / MARKER).write_text(json.dumps({"bemcontact": __version__, "files": files},
+                                                     indent=1) + "\n")
+                self._swap(tmp)
+            except BaseException:
+                shutil.rmtree(tmp, ignore_errors=True)
+                raise
 
     def _swap(self, tmp: pathlib.Path) -> None:
         out = self.path
@@ -260,6 +278,74 @@ class RunDirectory:
         out.rename(old)
         tmp.rename(out)
         shutil.rmtree(old, ignore_errors=True)
+
+
+class InterruptGuard:
+    """Ctrl-C inside compiled code (an LU, gmsh, an H-LU holding no Python
+    frame) reaches Python only when that code returns, minutes later on a
+    large problem.  While entered (from the main thread), a watcher thread
+    sees the signal at once (``signal.set_wakeup_fd``); if the main thread
+    has not ended ``grace`` seconds after it, the watcher releases ``out``'s
+    lock (a :class:`RunDirectory`, set by the caller) and ends the process
+    with one line and exit code 130.  While a run is being written it does
+    nothing: the write is short and Python code, which the interrupt stops
+    the ordinary way (the staged run removed, DIR as it was)."""
+
+    EXIT = 130
+
+    def __init__(self, grace: float = 2.0) -> None:
+        self.grace = grace
+        self.out: RunDirectory | None = None
+        self._done = threading.Event()
+        self._said = threading.Lock()
+        self._fds: tuple[int, int] | None = None
+        self._previous = -1
+
+    def claim(self) -> bool:
+        """True for the first caller only: it says 'interrupted'."""
+        return self._said.acquire(blocking=False)
+
+    def __enter__(self) -> InterruptGuard:
+        if threading.current_thread() is not threading.main_thread():
+            return self
+        r, w = os.pipe()
+        os.set_blocking(w, False)
+        try:
+            self._previous = signal.set_wakeup_fd(w, warn_on_full_buffer=False)
+        except ValueError:  # pragma: no cover - not the main interpreter
+            os.close(r)
+            os.close(w)
+            return self
+        self._fds = (r, w)
+        threading.Thread(target=self._watch, args=(r,), daemon=True,
+                         name="bemcontact-interrupt").start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self._done.set()
+        if self._fds is not None:
+            signal.set_wakeup_fd(self._previous)
+            os.close(self._fds[1])  # the watcher's read returns: it ends
+            self._fds = None
+
+    def _watch(self, r: int) -> None:
+        try:
+            while True:
+                data = os.read(r, 64)
+                if not data:
+                    return
+                if signal.SIGINT in data:
+                    break
+            if self._done.wait(self.grace):
+                return
+            if self.out is not None and not self.out.abandon():
+                return
+            if self.claim():
+                os.write(2, b"bemcontact: interrupted\n")
+                os._exit(self.EXIT)
+        finally:
+            with contextlib.suppress(OSError):
+                os.close(r)
 
 
 def _libc():
@@ -296,4 +382,4 @@ def _lock_owner(fd: int) -> int | None:
         return None
 
 
-__all__ = ["RunDirectory", "MARKER"]
+__all__ = ["InterruptGuard", "MARKER", "RunDirectory"]
