@@ -318,3 +318,25 @@ def test_out_as_a_dangling_symbolic_link_is_refused_before_the_solve(
         f"bemcontact: error: {tmp_path}/link: --out: is a symbolic link to {tmp_path}/{target}, "
         f"which {what}; create that directory or name another one\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "link", "tiny.toml"]
+
+
+def test_a_directory_that_refuses_the_lock_fails_before_the_solve(tmp_path, capsys, monkeypatch):
+    """Where DIR's parent cannot be written (EACCES for a user; root passes
+    os.access everywhere, so the failure is injected at the lock, the first
+    file a run creates): one line, exit 2, and the solve never starts."""
+    src = problem(tmp_path)
+    real = os.open
+
+    def deny(path, flags, *args, **kwargs):
+        if os.fspath(path).endswith(".lock"):
+            raise PermissionError(errno.EACCES, "Permission denied", os.fspath(path))
+        return real(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", deny)
+    monkeypatch.setattr(bc.ProblemFile, "solve", lambda *a, **k: pytest.fail("solved"))
+    out = tmp_path / "out"
+    assert main(["run", str(src), "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (
+        f"bemcontact: error: cannot write the results to {out}: Permission denied "
+        f"({tmp_path}/.out.lock)\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
