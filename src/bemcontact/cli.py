@@ -346,10 +346,11 @@ def _bench(args: argparse.Namespace) -> int:
                                method=args.method, eps=args.eps)
         if args.json is not None:
             write_json(args.json, record)
-    except (BemcontactError, OSError) as exc:
+    except (BemcontactError, OSError, MemoryError) as exc:
         if args.debug:
             raise
-        _error(str(exc))
+        _error(_out_of_memory(f"bench {args.bench_case}", None)
+               if isinstance(exc, MemoryError) else str(exc))
         return EXIT_INPUT
     print(json.dumps(record, indent=2))
     return EXIT_OK

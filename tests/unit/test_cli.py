@@ -445,7 +445,7 @@ def test_summary_prints_round_off_forces_as_zero_and_conditions_as_written(tmp_p
 # ----------------------------------------------------------------------------- out of memory
 
 
-@pytest.mark.parametrize("command", ["run", "check", "mesh-info"])
+@pytest.mark.parametrize("command", ["run", "check", "mesh-info", "bench"])
 def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch, command):
     """Issue 24: std::bad_alloc in the H-LU (MemoryError through nanobind) or
     a numpy allocation ended in a traceback; now one line naming the file and
@@ -469,6 +469,11 @@ def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch,
     elif command == "check":
         monkeypatch.setattr(cli, "load_problem", no_memory)
         argv, name = ["check", str(src)], src
+    elif command == "bench":
+        import bemcontact.bench
+
+        monkeypatch.setattr(bemcontact.bench, "one_body", no_memory)
+        argv, name = ["bench", "one-body", "--nodes", "100"], "bench one-body"
     else:
         monkeypatch.setattr(mesh_package, "read_mesh", no_memory)
         name = ROOT / "tests" / "data" / "bad" / "support" / "cube_named_regions.msh"
