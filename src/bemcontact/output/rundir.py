@@ -47,6 +47,10 @@ from ..errors import ConfigError
 #: package version and the files (relative paths) the run wrote.
 MARKER = ".bemcontact-run.json"
 
+#: Bytes a run's file paths take beyond DIR's (the longest:
+#: ``/steps/<64-character body>_interface_<step>.vtu``, with a margin).
+_INSIDE = 128
+
 
 class RunDirectory:
     """An output directory, checked at once (before any solve) and locked
@@ -113,8 +117,31 @@ class RunDirectory:
         parent = out.parent
         while not parent.exists():
             parent = parent.parent
+        self._check_length(parent)
         if not os.access(parent if not out.exists() else out, os.W_OK | os.X_OK):
             raise ConfigError(f"{where}: cannot write into {parent if not out.exists() else out}")
+
+    def _check_length(self, existing: pathlib.Path) -> None:
+        """Names the run makes beside and inside DIR must fit the filesystem:
+        ``.<name>.tmp-XXXXXXXX`` (14 bytes more than the name) and the
+        longest file path inside (``steps/<body>_interface_NNN.vtu``, body
+        names up to 64 characters: 128 bytes more than DIR's path).  A
+        245-character name solved and then failed to write."""
+        try:
+            name_max = os.pathconf(existing, "PC_NAME_MAX")
+            path_max = os.pathconf(existing, "PC_PATH_MAX")
+        except (OSError, ValueError):  # pragma: no cover - no limits known
+            name_max, path_max = 255, 4096
+        name = len(os.fsencode(self.path.name)) + len(".tmp-") + 9
+        path = len(os.fsencode(str(self.path))) + _INSIDE
+        if name > name_max or path > path_max:
+            what = (f"its name is {len(os.fsencode(self.path.name))} bytes, at most "
+                    f"{name_max - 14}" if name > name_max else
+                    f"its path is {path - _INSIDE} bytes, at most {path_max - _INSIDE}")
+            given = self.given if len(self.given) <= 200 else (
+                f"{self.given[:80]}...{self.given[-80:]}")
+            raise ConfigError(f"{given}: --out: too long for this filesystem ({what}, "
+                              "leaving room for the files of a run); name a shorter one")
 
     def manifest(self) -> list[str] | None:
         """The files the run in the directory wrote, or None (no manifest)."""

@@ -340,3 +340,31 @@ def test_a_directory_that_refuses_the_lock_fails_before_the_solve(tmp_path, caps
         f"bemcontact: error: cannot write the results to {out}: Permission denied "
         f"({tmp_path}/.out.lock)\n")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["tiny.toml"]
+
+
+@pytest.mark.parametrize("name_bytes, refused", [(241, False), (242, True), (245, True)])
+def test_a_name_too_long_for_the_staging_directory_is_refused_before_the_solve(
+        tmp_path, name_bytes, refused):
+    """`.<name>.tmp-XXXXXXXX` is 14 bytes longer than DIR's name: a 245-byte
+    name solved and then failed with "File name too long"; 241 bytes fit."""
+    name = "o" * name_bytes
+    if refused:
+        with pytest.raises(bc.ConfigError) as info:
+            RunDirectory(tmp_path / name)
+        given = str(tmp_path / name)
+        shown = f"{given[:80]}...{given[-80:]}"  # a long path is shown by its ends
+        assert str(info.value) == (
+            f"{shown}: --out: too long for this filesystem (its name is "
+            f"{name_bytes} bytes, at most 241, leaving room for the files of a run); name a "
+            "shorter one")
+    else:
+        _write_run(tmp_path / name, "new")
+        assert _complete_run(tmp_path / name) == "new"
+
+
+def test_a_path_too_long_for_the_files_of_a_run_is_refused(tmp_path):
+    deep = tmp_path.joinpath(*["d" * 200] * 20)  # > 4,096 - 128 bytes
+    with pytest.raises(bc.ConfigError, match=r"^.{80}\.\.\..{80}: --out: too long for this "
+                       r"filesystem \(its path is \d+ bytes, at most 3968, leaving room"):
+        RunDirectory(deep)
+    assert list(tmp_path.iterdir()) == []
