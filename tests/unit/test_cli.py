@@ -492,3 +492,19 @@ def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch,
         assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "tiny.toml"]
     with pytest.raises(MemoryError):
         main([*argv, "--debug"])
+
+
+def test_exit_3_into_an_earlier_run_replaces_it_whole(tmp_path, capsys):
+    """Issue 24: a run that did not converge, written over an earlier
+    converged one, left that run's VTU and CSV files beside a
+    ``"converged": false`` summary; now the directory holds the diagnostic
+    run alone."""
+    out = tmp_path / "out"
+    assert main(["run", str(problem(tmp_path)), "--out", str(out), "--quiet"]) == 0
+    assert (out / "frame.vtu").exists()
+    path = problem(tmp_path, top='["free", "free", -0.04]', mu="0")
+    assert main(["run", str(path), "--out", str(out)]) == 3
+    capsys.readouterr()
+    assert sorted(p.name for p in out.iterdir()) == [".bemcontact-run.json", "summary.json"]
+    assert json.loads((out / "summary.json").read_text())["converged"] is False
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "tiny.toml"]
