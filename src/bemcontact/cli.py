@@ -41,6 +41,7 @@ from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import InterruptGuard, RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
+from .problemfile.sizes import MARGIN
 from .progress import terminal_text
 from .settings import MAX_THREADS
 
@@ -223,6 +224,14 @@ def _check(args: argparse.Namespace) -> int:
         _error(_out_of_memory(args.problem, problem) if isinstance(exc, MemoryError) else str(exc))
         return EXIT_INPUT
     print(terminal_text(text))
+    # what run would refuse before its solve, check refuses too (after the report)
+    est = problem.contact_problem().memory_estimate(problem.options, problem.steps or None)
+    _, available = machine_memory()
+    if est.peak > MARGIN * available:
+        _error(f"{args.problem}: the solve needs about {est.text()}, more than this machine's "
+               f"{available / 1e9:.1f} GB of available memory (run refuses it); use a coarser "
+               "mesh or smaller contact surfaces")
+        return EXIT_INPUT
     return EXIT_OK
 
 

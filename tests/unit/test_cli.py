@@ -508,3 +508,21 @@ def test_exit_3_into_an_earlier_run_replaces_it_whole(tmp_path, capsys):
     assert sorted(p.name for p in out.iterdir()) == [".bemcontact-run.json", "summary.json"]
     assert json.loads((out / "summary.json").read_text())["converged"] is False
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "tiny.toml"]
+
+
+def test_check_refuses_what_run_would_refuse_for_memory(tmp_path, capsys, monkeypatch):
+    """check printed "valid" for a solve estimated at 70.9 GB with 24 GB
+    available, which run then refused; now the report is followed by that
+    refusal (one line, exit 2)."""
+    import bemcontact.cli as cli
+
+    src = problem(tmp_path)
+    assert main(["check", str(src)]) == 0
+    capsys.readouterr()
+    monkeypatch.setattr(cli, "machine_memory", lambda: (2e9, 1e6))  # 1 MB available
+    assert main(["check", str(src)]) == 2
+    out, err = capsys.readouterr()
+    assert out.startswith(f"{src}: valid") and "this machine: 0.0 GB available of 2.0 GB" in out
+    assert err.startswith(f"bemcontact: error: {src}: the solve needs about ") and err.endswith(
+        ", more than this machine's 0.0 GB of available memory (run refuses it); use a coarser "
+        "mesh or smaller contact surfaces\n") and err.count("\n") == 1, err
