@@ -102,3 +102,16 @@ def test_closed_pipe_is_quiet(tmp_path):
         shell=True, capture_output=True, text=True, timeout=120,
     )
     assert "Traceback" not in proc.stderr and "BrokenPipe" not in proc.stderr, proc.stderr
+
+
+def test_symbolic_link_loops_and_dangling_links(tmp_path, capsys):
+    """A loop of links is named as such (mesh-info said "no such file")."""
+    (tmp_path / "a.msh").symlink_to("b.msh")
+    (tmp_path / "b.msh").symlink_to("a.msh")
+    (tmp_path / "gone.msh").symlink_to("nothing.msh")
+    _one_line(capsys, main(["mesh-info", str(tmp_path / "a.msh")]), 2,
+              "a.msh: cannot read the mesh file: Too many levels of symbolic links")
+    _one_line(capsys, main(["mesh-info", str(tmp_path / "gone.msh")]), 2,
+              "gone.msh: cannot read the mesh file: no such file")
+    _one_line(capsys, main(["check", str(tmp_path / "a.msh")]), 2,
+              "a.msh: cannot read the problem file: Too many levels of symbolic links")

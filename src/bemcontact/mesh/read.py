@@ -43,7 +43,7 @@ def read_mesh(path: str | os.PathLike, element_type: str | None = None) -> Surfa
     import meshio
 
     p = os.fspath(path)
-    if not os.path.exists(p):
+    if not os.path.lexists(p):  # a link to nothing or a loop: check_regular_file says which
         raise MeshError(f"{p}: no such file")
     if os.path.isdir(p):
         raise MeshError(f"{p}: is a directory, not a mesh file")
