@@ -23,6 +23,11 @@ Rules (docs/problem-file.md, "Output directory"):
   process id, for the message) makes a second run into the same directory
   fail at once instead of racing the first; the kernel releases it when its
   process ends, however it ends, so a killed run never blocks the next.
+* Names the filesystem could not hold (the staging sibling is 14 bytes
+  longer than ``<name>``; the run's files need 128 bytes of path below it)
+  are refused before anything is read.
+* :class:`InterruptGuard`: Ctrl-C while the main thread is inside compiled
+  code ends the run within ``grace`` seconds, the lock released.
 """
 
 from __future__ import annotations
@@ -30,7 +35,6 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import errno
-import fcntl
 import json
 import os
 import pathlib
@@ -42,6 +46,11 @@ from collections.abc import Iterator
 
 from .._version import __version__
 from ..errors import ConfigError
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - Windows: the lock is the file's existence
+    fcntl = None
 
 #: The manifest that marks a bemcontact output directory: JSON with the
 #: package version and the files (relative paths) the run wrote.
@@ -197,7 +206,7 @@ class RunDirectory:
         for _ in range(100):
             fd = os.open(self._lock, os.O_CREAT | os.O_RDWR, 0o644)
             try:
-                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                _lock_exclusive(fd)
             except BlockingIOError:
                 pid = _lock_owner(fd)
                 os.close(fd)
@@ -399,6 +408,15 @@ def _exchange(a: pathlib.Path, b: pathlib.Path) -> bool:
     if err in (errno.ENOSYS, errno.EINVAL, errno.ENOTSUP, errno.EOPNOTSUPP):
         return False
     raise OSError(err, os.strerror(err), os.fspath(b))
+
+
+def _lock_exclusive(fd: int) -> None:
+    """flock ``fd`` without waiting (BlockingIOError if held).  Without
+    fcntl the file's existence is the lock: held if it names a process."""
+    if fcntl is not None:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    elif _lock_owner(fd) is not None:  # pragma: no cover - Windows
+        raise BlockingIOError(errno.EAGAIN, "locked")
 
 
 def _lock_owner(fd: int) -> int | None:
