@@ -161,15 +161,25 @@ class RunDirectory:
             return None
 
     def foreign_files(self, limit: int = 2) -> list[str]:
-        """Up to ``limit`` files in the directory that its manifest does not
-        list (any file when there is none), as relative paths; the walk stops
-        there, so a large directory of the user's costs nothing."""
+        """Up to ``limit`` entries in the directory that its manifest does not
+        list (any when there is none), as relative paths: files, links (to
+        directories too: the walk does not follow them, a swap would delete
+        them) and directories holding no listed file (a user's empty
+        folder); the walk stops there, so a large directory of the user's
+        costs nothing."""
         listed = set(self.manifest() or ())
+        parents = {f.rsplit("/", 1)[0] for f in listed if "/" in f}
+        parents |= {q.rsplit("/", 1)[0] for q in list(parents) if "/" in q}
         out: list[str] = []
         for root, dirs, files in os.walk(self.path):
             dirs.sort()
-            for name in sorted(files):
-                rel = (pathlib.Path(root) / name).relative_to(self.path).as_posix()
+            here = pathlib.Path(root)
+            links = [d for d in dirs if (here / d).is_symlink()]
+            empty = [d for d in dirs if d not in links
+                     and (here / d).relative_to(self.path).as_posix() not in parents
+                     and not any((here / d).iterdir())]
+            for name in sorted([*files, *links, *empty]):
+                rel = (here / name).relative_to(self.path).as_posix()
                 if rel != MARKER and rel not in listed:
                     out.append(rel)
                     if len(out) >= limit:

@@ -368,3 +368,24 @@ def test_a_path_too_long_for_the_files_of_a_run_is_refused(tmp_path):
                        r"filesystem \(its path is \d+ bytes, at most 3968, leaving room"):
         RunDirectory(deep)
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("entry", ["link to a directory", "empty directory"])
+def test_a_users_link_or_empty_folder_in_a_run_directory_is_refused(tmp_path, entry):
+    """The walk for files the manifest does not list saw neither a link to a
+    directory nor an empty folder, and the swap then deleted them."""
+    out = tmp_path / "out"
+    _write_run(out, "old")
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "keep.txt").write_text("mine")
+    if entry == "link to a directory":
+        (out / "sub" / "mydata").symlink_to(tmp_path / "data")
+        name = "sub/mydata"
+    else:
+        (out / "sub" / "notes").mkdir()
+        name = "sub/notes"
+    with pytest.raises(bc.ConfigError, match=f"holds files bemcontact did not write \\({name}\\)"):
+        _write_run(out, "new")
+    _write_run(out, "new", force=True)  # beside them, untouched
+    assert (out / name).exists() and (tmp_path / "data" / "keep.txt").read_text() == "mine"
+    assert (out / "summary.json").read_text() == "new:summary.json"
