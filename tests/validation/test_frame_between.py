@@ -5,6 +5,11 @@ mu = 0.3.  Mirror symmetry about the contact plane makes the exact tangential
 traction zero everywhere and the normal force that of the frictionless
 contact (Hertz with R_eff = R/2, a = 0.554 mm).
 
+These first tests pin the mortar weighted gap (relative_displacement =
+"weighted", the rule they were measured with); the default rule (projected,
+frame_on = "auto") is tested below on the issue's own mesh (h = 0.1 mm) and
+on two spheres of different radii.
+
 Tiers and why:
 * max |q| <= 0.01 p0 (the issue's bound; measured 0.0081, and 0.013 at
   h = 0.1): what remains is the two meshes' different discretization error of
@@ -32,14 +37,18 @@ H = 0.07
 INCREMENTS = 4
 
 
-def _solve(mu: float, frame_on: str = "between", swap: bool = False) -> bc.ContactResult:
-    p = cases.two_spheres(H, gap=0.0, approach=0.06, friction_coefficient=mu, frame_on=frame_on)
+def _solve(mu: float, frame_on: str = "between", swap: bool = False, h: float = H,
+           relative_displacement: str = "weighted", upper_radius=None,
+           approach: float = 0.06) -> bc.ContactResult:
+    p = cases.two_spheres(h, gap=0.0, approach=approach, friction_coefficient=mu,
+                          frame_on=frame_on, upper_radius=upper_radius)
+    lower, upper = p.bodies
+    pair = p.pair
     if swap:
-        lower, upper = p.bodies
-        pair = p.pair
-        p = bc.ContactProblem(upper, lower, bc.ContactPair(
-            pair.surface2, pair.surface1, mu, search_distance=pair.search_distance,
-            frame_on=frame_on))
+        lower, upper = upper, lower
+    p = bc.ContactProblem(lower, upper, bc.ContactPair(
+        pair.surface1, pair.surface2, mu, search_distance=pair.search_distance,
+        frame_on=frame_on, relative_displacement=relative_displacement))
     return p.solve(bc.SolverOptions(load_steps=INCREMENTS))
 
 
@@ -88,3 +97,57 @@ def test_frame_midway_with_bisecting_normals(frictional):
     assert np.abs(fr.points[closed, 2]).max() <= H**2 / (4 * R)
     tilt = np.degrees(np.arccos(np.abs(fr.normals[closed, 2]))).max()
     assert tilt <= 0.1, f"frame normals tilted by up to {tilt:.3f} deg in the contact zone"
+
+
+# ------------------------------------------------ the defaults: auto + projected
+H_DEFAULT = 0.1  # the issue's measurement: two_spheres at h = 0.1 mm
+
+
+@pytest.fixture(scope="module")
+def default_pair():
+    """Identical spheres with the default frame (auto: both curved, so
+    between) and the default projected relative displacement."""
+    return _solve(0.0, "auto", h=H_DEFAULT, relative_displacement="projected"), _solve(
+        0.3, "auto", h=H_DEFAULT, relative_displacement="projected")
+
+
+def test_defaults_identical_spheres(default_pair):
+    """max |q| <= 0.01 p0 (measured 0.0086; the frame on one sphere 0.038,
+    the weighted gap between 0.013 on this mesh), the frictional normal
+    force equal to the frictionless one to 1e-4 (measured 1e-6) and Hertz
+    with R_eff = R/2 within the Hertz tiers (measured a +1.4 %, p0 -0.01 %,
+    profile 2.5 %; the weighted gap +6.7 %, +0.2 %, 8.8 %)."""
+    free, fric = default_pair
+    q = _shear(fric)
+    assert q <= 0.01, f"max |q| = {q:.4f} p0 between two identical spheres (exact: 0)"
+    assert fric.frame.counts()["stick"] > 30
+    assert abs(fric.normal_force / free.normal_force - 1) <= 1e-4
+    s = cases.SphereOnBlock()
+    e = cases.hertz_errors(free.frame, ref.hertz(free.normal_force, s.radius / 2, s.contact_modulus))
+    assert abs(e.contact_radius) <= 0.03 and abs(e.peak_pressure) <= 0.03 and e.profile_l2 <= 0.05, e
+
+
+def test_defaults_spheres_of_different_radii():
+    """R = 10 and R2 = 20 mm (R_eff = 6.67 mm), identical steel, approach
+    0.03 mm (a = 0.45 mm, inside the 0.7 mm fine zone), mu = 0.3:
+    Hertz with R_eff within the Hertz tiers (3 % a and p0, 5 % profile;
+    measured +2.5 %, -0.1 %, 3.5 %) and the frictional normal force equal
+    to the frictionless one to 1e-4 (measured 1.2e-5).  Identical materials
+    decouple the normal and tangential problems in Hertz theory, so the
+    shear should vanish; it does not quite at this resolution (a/h = 4.5):
+    measured max |q| = 0.0199 p0 (frame between, projected), 0.0143
+    (between, weighted), 0.0189 on the flatter sphere, 0.037 on the
+    smaller one.  Asserted: 0.025 p0, a regression bound; the issue's
+    0.01 p0 is not met here (docs/frame.md)."""
+    kw = dict(h=H_DEFAULT, relative_displacement="projected", upper_radius=20.0, approach=0.03)
+    free = _solve(0.0, "auto", **kw)
+    fric = _solve(0.3, "auto", **kw)
+    s = cases.SphereOnBlock()
+    r_eff = s.radius * 20.0 / (s.radius + 20.0)
+    e = cases.hertz_errors(free.frame, ref.hertz(free.normal_force, r_eff, s.contact_modulus))
+    q = _shear(fric)
+    print(f"R2 = 20: a {e.contact_radius:+.4f} p0 {e.peak_pressure:+.4f} profile "
+          f"{e.profile_l2:.4f}, max |q| {q:.4f} p0, dN {fric.normal_force / free.normal_force - 1:.1e}")
+    assert abs(e.contact_radius) <= 0.03 and abs(e.peak_pressure) <= 0.03 and e.profile_l2 <= 0.05, e
+    assert q <= 0.025, f"max |q| = {q:.4f} p0"
+    assert abs(fric.normal_force / free.normal_force - 1) <= 1e-4

@@ -100,6 +100,11 @@ def _surface(disc: Discretization, region: str, who: str) -> _Surface:
     return _Surface(disc, elements, nodes, local)
 
 
+#: A frame node counts as covered (:attr:`ContactFrame.covered`) when the
+#: other surface covers at least this fraction of each of its elements and
+#: of its neighbours' elements.
+COVERED = 0.999
+
 #: A contact surface is flat when its element normals (at the centroids)
 #: deviate from their mean by less than this (1 - cos of the angle: about
 #: 1.4e-5 rad); a sphere of radius R meshed at h has angles of order h/R.
@@ -146,6 +151,8 @@ class ContactFrame:
     (sparse CSC; its row sums are the weights).  projected: whether the
     nodal law acts on the projected relative displacement M_f^-1 ∫ N [u]
     (True, rule "mortar") or on the weighted one diag(a)^-1 ∫ N [u].
+    covered: (m,) whether the other surface covers each node's frame
+    elements and its neighbours' (to :data:`COVERED`).
     projection: per body, (element of the frame-owner surface, xi) of each
     contact node's projection on the frame (xi_p), and whether it falls on
     the frame.
@@ -352,6 +359,12 @@ class ContactFrame:
                 f"the same element of the other (coverage {covered.max():.3g}); give a smaller "
                 "search_distance or narrower contact surfaces"
             )
+        # nodes whose frame elements, and their neighbours' (one ring
+        # further), the other surface covers (almost) whole
+        part = covered < COVERED
+        self.covered = np.ones(self.n_frame, dtype=bool)
+        self.covered[self._fconn[part]] = False
+        self.covered[self._fconn[(~self.covered)[self._fconn].any(axis=1)]] = False
         fo = np.concatenate(fo)
         ft = np.concatenate(ft)
         z = np.concatenate(zs)
