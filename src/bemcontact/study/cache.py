@@ -2,7 +2,7 @@
 read back by any later process instead of assembled and factored again.
 
 An entry is one file ``<key>.condensed``: a header line
-``bemcontact-condensed <VERSION> <key> <sha256>\\n`` followed by a NumPy
+``bemcontact-condensed <FORMAT_VERSION> <key> <sha256>\\n`` followed by a NumPy
 ``.npz`` archive (no pickles) of the
 :class:`~bemcontact.contact.condensation.CondensedBody` arrays and its
 metadata.  The key is the SHA-256 of everything the condensation depends on
@@ -34,7 +34,7 @@ from .._version import __version__
 from ..contact.condensation import CondensedBody, condense
 
 #: Version of the entry format and of what the key covers; bumped when either changes.
-VERSION = 1
+FORMAT_VERSION = 1
 _MAGIC = b"bemcontact-condensed"
 _ARRAYS = ("nodes", "dofs", "known_u", "values", "x0", "X", "Rf", "known_modal_force", "Y",
            "C", "forces")
@@ -57,7 +57,7 @@ def body_key(body, nodes, states, linear, modes, load_fields, frame_settings=())
     m = body.mesh
     known_u, _ = body.boundary_data(states[0])
     controls = [c.dofs for c in body.controls(states[0])]
-    _update(h, VERSION, __version__, m.nodes, m.elements, m.element_type, m.element_region,
+    _update(h, FORMAT_VERSION, __version__, m.nodes, m.elements, m.element_type, m.element_region,
             tuple(m.region_names), body.material, body.quadrature,
             body.discretization_options, known_u, len(controls), *controls,
             np.asarray(load_fields), np.asarray(nodes), linear, tuple(frame_settings))
@@ -109,12 +109,12 @@ class BodyCache:
     # ---------------------------------------------------------------- entries
     def _write(self, path: pathlib.Path, key: str, cb: CondensedBody) -> None:
         buf = io.BytesIO()
-        meta = json.dumps({"version": VERSION, "key": key, "body": cb.body.name,
+        meta = json.dumps({"version": FORMAT_VERSION, "key": key, "body": cb.body.name,
                            "solver": cb.solver, "timings": cb.timings}, default=str)
         np.savez(buf, meta=np.frombuffer(meta.encode(), dtype=np.uint8),
                  **{a: np.asarray(getattr(cb, a)) for a in _ARRAYS})
         data = buf.getvalue()
-        header = b"%s %d %s %s\n" % (_MAGIC, VERSION, key.encode(),
+        header = b"%s %d %s %s\n" % (_MAGIC, FORMAT_VERSION, key.encode(),
                                      hashlib.sha256(data).hexdigest().encode())
         self.directory.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
@@ -131,7 +131,7 @@ class BodyCache:
             raw = path.read_bytes()
             header, _, data = raw.partition(b"\n")
             magic, version, k, digest = header.split(b" ")
-            if (magic != _MAGIC or int(version) != VERSION or k.decode() != key
+            if (magic != _MAGIC or int(version) != FORMAT_VERSION or k.decode() != key
                     or hashlib.sha256(data).hexdigest().encode() != digest):
                 return None
             with np.load(io.BytesIO(data), allow_pickle=False) as z:
@@ -152,4 +152,4 @@ class BodyCache:
         return cb
 
 
-__all__ = ["BodyCache", "VERSION", "body_key"]
+__all__ = ["BodyCache", "FORMAT_VERSION", "body_key"]
