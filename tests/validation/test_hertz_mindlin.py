@@ -200,6 +200,40 @@ def test_cattaneo_mindlin(ring, k, ratio):
     assert l2 <= 0.10
 
 
+@pytest.mark.parametrize("k, ratio, l2_tier", [(2, 0.5, 0.05), (3, 0.75, 0.03)])
+def test_cattaneo_mindlin_on_the_plain_graded_mesh(frictional, k, ratio, l2_tier):
+    """Cattaneo–Mindlin on the plain graded mesh (h = 0.05 mm within 0.7 mm,
+    a/h = 11.1; no refinement ring), from the fretting solve's steps 0.5 and
+    0.75 mu P, against the step's own Q and P:
+
+    * stick radius within 1.5 % (measured +0.27 % and +1.1 %; with the
+      weighted gap of the frame nodes it was -2 % and the ring was needed);
+    * tangential approach within 5 % (measured -0.14 % and -0.18 %);
+    * traction profile L2 (r < 0.9 a) within 5 % and 3 % (measured 4.3 % and
+      2.2 %; 13.3 % and 7.2 % with the weighted gap).  The error sits at the
+      stick-slip front, the square-root cusp of the analytic traction, and is
+      first order in h: the benchmark's 4.0 % at a/h = 12.2 and 2.3 % at
+      25.4 (docs/benchmarks.md) scale to 4.3 % here."""
+    h, P0, q_max, res = frictional
+    Q, U = cases.platen_history(res)
+    s = res.history[k]
+    P = s.normal_force
+    hz = _hertz(P)
+    a = hz.contact_radius
+    assert Q[k] / (MU * P) == pytest.approx(ratio, rel=1e-3)
+    c = cases.stick_radius(s.frame) / ref.cattaneo_mindlin_stick_radius(a, Q[k], MU, P) - 1
+    S = SETUP.tangential_compliance_factor
+    d = (cases.tangential_approach(Q, U, a, S)[k]
+         / ref.cattaneo_mindlin_displacement(Q[k], MU, P, a, S) - 1)
+    r, _, qx, w, _ = cases.radial_profile(s.frame)
+    inner = r < 0.9 * a
+    l2 = cases.weighted_l2(qx[inner], ref.cattaneo_mindlin_traction(r[inner], hz, Q[k], MU), w[inner])
+    print(f"plain mesh, Q/muP={ratio}: stick radius {c:+.4f}, approach {d:+.4f}, profile L2 {l2:.4f}")
+    assert abs(c) <= 0.015
+    assert abs(d) <= 0.05
+    assert l2 <= l2_tier
+
+
 def test_ring_mesh_solve_converges_and_matches_hertz(ring):
     """The ring mesh's normal step: Hertz within the issue's 3 % / 3 % / 5 %
     (measured -0.15 % / +1.2 % / 2.2 %), every increment converged in <= 25
