@@ -9,8 +9,11 @@ CPP_SRC := $(shell find cpp -name '*.cpp' -o -name '*.hpp' -o -name '*.hpp.in')
 # builds the portable binary that wheels and plain `pip install .` get.
 NATIVE ?= ON
 BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
-RUN_DEPS := numpy scipy meshio threadpoolctl rich gmsh matplotlib pytest hypothesis mkdocs dask distributed
-# the docs' API reference is generated from the docstrings (make docs, tests/test_docs.py)
+# what the demo needs (make demo installs only these) ...
+RUN_DEPS := numpy scipy meshio threadpoolctl rich matplotlib
+# ... and what the tests need besides: gmsh (generated meshes), Dask (sweeps), the docs'
+# builder (the API reference is generated from the docstrings: make docs, tests/test_docs.py)
+TEST_DEPS := gmsh pytest hypothesis mkdocs dask distributed
 DOC_DEPS := "mkdocstrings[python]>=1.0"
 
 .PHONY: all install demo test test-fast test-wheel wheel bench docs clean FORCE
@@ -22,8 +25,12 @@ $(VENV)/.deps: pyproject.toml
 	@echo "== [1/2] $(VENV): the Python dependencies from PyPI (about a minute the first time)"
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --progress-bar off "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS) \
-		$(DOC_DEPS)
+	$(PY) -m pip install --progress-bar off "scikit-build-core>=0.10" "nanobind>=2.0" $(RUN_DEPS)
+	touch $@
+
+$(VENV)/.testdeps: $(VENV)/.deps Makefile
+	@echo "== $(VENV): what the tests need besides (gmsh, pytest, Dask, the docs' builder)"
+	$(PY) -m pip install --progress-bar off $(TEST_DEPS) $(DOC_DEPS)
 	touch $@
 
 # rewritten only when NATIVE changes, so that a change rebuilds
@@ -46,15 +53,15 @@ demo: install
 	$(VENV)/bin/bemcontact run examples/two_cubes_dissimilar.toml --out out/dissimilar
 	$(PY) examples/two_cubes_figure.py out/similar out/dissimilar out/two_cubes_figure1.png
 
-test: install
+test: install $(VENV)/.testdeps
 	$(PY) -m pytest -q
 
-test-fast: install
+test-fast: install $(VENV)/.testdeps
 	$(PY) -m pytest -q -m "not slow"
 
 # the packaging test: the wheel built, installed into a fresh venv (dependencies
 # from PyPI) and run there (minutes; not part of `make test`)
-test-wheel: install
+test-wheel: install $(VENV)/.testdeps
 	$(PY) -m pytest -q -m packaging tests/test_packaging.py
 
 # A portable wheel into dist/ (baseline instruction set, no -march=native; its own
@@ -65,7 +72,7 @@ wheel: $(VENV)/.deps
 		--config-settings=cmake.define.BEMCONTACT_NATIVE=OFF \
 		--config-settings=build-dir=build/wheel/{wheel_tag}
 
-bench: install
+bench: install $(VENV)/.testdeps
 	$(PY) benchmarks/bem_one_body_N500_5000.py
 	$(PY) benchmarks/scaling.py
 

@@ -285,7 +285,8 @@ ROOT = Key(
     "", "table", "a problem file", section="top level",
     keys=(
         Key("title", "string", "free text, echoed into summary.json", default=""),
-        Key("units", "table", "labels for the printed summary (not checked, not converted)",
+        Key("units", "table", "labels for the printed summary and figures: known units, "
+            "checked for consistency (stress = force / length²), never converted",
             default={}, section="units",
             keys=tuple(Key(n, "string", f"{n} unit label, e.g. \"{e}\"")
                        for n, e in (("length", "mm"), ("force", "N"), ("stress", "MPa")))),
