@@ -24,6 +24,7 @@ from .interface import InterfaceSystem, traction_modes
 from .memory import MemoryEstimate, estimate, machine_memory
 from .newton import NewtonSteps, newton
 from .options import SolverOptions
+from .origin import own_origin, translated_bodies, translated_result, translated_states
 from .pair import ContactPair
 from .predictor import Predictor
 from .recovery import recover
@@ -101,6 +102,13 @@ class ContactProblem:
         Their contact surfaces must carry no boundary condition.
     pair:
         :class:`ContactPair`: the contact surfaces, friction, frame rule.
+
+    Bodies far from the global origin (beyond :data:`~bemcontact.contact.origin.FAR`
+    times their extent) are solved relative to ``origin``, a node's
+    coordinates (:mod:`bemcontact.contact.origin`): a rigid offset of the
+    whole problem changes nothing, and results are returned at the bodies'
+    own position.  The :attr:`frame` and a ``Condensation`` are those
+    of the translated bodies (points relative to ``origin``).
     """
 
     def __init__(self, body1: ElasticBody, body2: ElasticBody, pair: ContactPair) -> None:
@@ -123,12 +131,16 @@ class ContactProblem:
                 )
         self.bodies = (body1, body2)
         self.pair = pair
+        #: the point the bodies are solved relative to (None: the global origin)
+        self.origin = own_origin(self.bodies)
+        self._solved = (self.bodies if self.origin is None
+                        else translated_bodies(self.bodies, self.origin))
         self._frame: ContactFrame | None = None
 
     @property
     def frame(self) -> ContactFrame:
         if self._frame is None:
-            b1, b2 = self.bodies
+            b1, b2 = self._solved
             self._frame = ContactFrame(
                 b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
                 self.pair.frame, names=(b1.name, b2.name),
@@ -151,6 +163,16 @@ class ContactProblem:
             int(np.count_nonzero(frame.active)), len(states),
             [len(b.controls(states[0][a])) for a, b in enumerate(self.bodies)], opt.linear,
         )
+
+    def _at_origin(self, states):
+        """``states`` for the bodies as solved (relative to ``origin``)."""
+        return states if self.origin is None else translated_states(states, self.origin)
+
+    def _back(self, result):
+        """``result`` of the bodies as solved, at the bodies' own position."""
+        if self.origin is None or result is None:
+            return result
+        return translated_result(result, self.origin, [b.mesh for b in self.bodies])
 
     def _check_memory(self, opt, steps) -> None:
         """Refuse a solve whose estimated peak exceeds the machine's available
@@ -268,7 +290,12 @@ class ContactProblem:
             opt = dataclasses.replace(opt, threads=threads)
         # SolverOptions.threads bounds BLAS/LAPACK too (the condensation's LU)
         with blas_threads(opt.threads):
-            return self._solve(opt, steps, states, raise_on_failure, report, condensed)
+            try:
+                return self._back(self._solve(opt, steps, self._at_origin(states),
+                                              raise_on_failure, report, condensed))
+            except ConvergenceError as exc:
+                exc.result = self._back(exc.result)
+                raise
 
     # ---------------------------------------------------------- re-solves (issue 27)
     def condense(
@@ -293,14 +320,15 @@ class ContactProblem:
         self._check_memory(opt, steps)
         threads = usable_threads(opt.threads)
         with blas_threads(threads):
-            return condense_problem(self.bodies, self.pair, self.frame, states, threads,
+            return condense_problem(self._solved, self.pair, self.frame,
+                                    self._at_origin(states), threads,
                                     opt.linear, progress, condense_body)
 
     def _reuse(self, condensed: Condensation, opt: SolverOptions) -> None:
         """Check that ``condensed`` fits this problem and take its frame."""
         if not isinstance(condensed, Condensation):
             raise ConfigError(f"condensed must be a Condensation, got {type(condensed).__name__}")
-        condensed.check(self.bodies, self.pair, opt.linear)
+        condensed.check(self._solved, self.pair, opt.linear)
         self._frame = condensed.frame
 
     @staticmethod
@@ -329,13 +357,13 @@ class ContactProblem:
             frame = self.frame
         t1 = time.perf_counter()
         if condensed is not None:
-            cb = condensed.bodies_for(self.bodies, states)
+            cb = condensed.bodies_for(self._solved, states)
         else:
             modes = traction_modes(frame)
             cb = tuple(
                 condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report,
                          opt.linear, modes[a])
-                for a, b in enumerate(self.bodies)
+                for a, b in enumerate(self._solved)
             )
         t2 = time.perf_counter()
         system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
@@ -380,7 +408,7 @@ class ContactProblem:
             if failed is not None:
                 break
             if S > 1:
-                res = recover(system, z, ell, k_start, list(records), self.bodies)
+                res = recover(system, z, ell, k_start, list(records), self._solved)
                 res.label = step.label
                 history.append(res)
         t4 = time.perf_counter()
@@ -389,7 +417,7 @@ class ContactProblem:
             report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
                                  "iteration(s)", index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
-        result = recover(system, z, ell, k_start, records, self.bodies)
+        result = recover(system, z, ell, k_start, records, self._solved)
         result.label = steps[len(history) if failed else -1].label
         result.history = history if S > 1 else [result]
         result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}

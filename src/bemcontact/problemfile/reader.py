@@ -51,7 +51,7 @@ import numpy as np
 
 from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
 from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, SolverOptions
-from ..errors import BemcontactError, ConfigError, ConvergenceError, OptionalDependencyWarning
+from ..errors import BemcontactError, ConfigError, OptionalDependencyWarning
 from ..inputs import MAX_MESH_BYTES, MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg import HMatrixOptions, LinearSolverOptions
 from ..mesh import SurfaceMesh, box, read_mesh
@@ -64,7 +64,6 @@ from ..output.write import (
 )
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
-from .origin import own_origin, translated_bodies, translated_result
 from .sizes import check_body_size, check_generated_size
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
@@ -111,14 +110,13 @@ class ProblemFile:
     output: OutputOptions = OutputOptions()
     _contact: ContactProblem = field(init=False, repr=False, compare=False)
     #: the point the bodies are solved relative to when they lie far from the
-    #: global origin (None: the global origin; :mod:`.origin`)
+    #: global origin (None: the global origin; :mod:`bemcontact.contact.origin`)
     origin: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        c = own_origin(self.bodies)
-        bodies = self.bodies if c is None else translated_bodies(self.bodies, c)
-        object.__setattr__(self, "origin", c)
-        object.__setattr__(self, "_contact", ContactProblem(*bodies, self.pair))
+        contact = ContactProblem(*self.bodies, self.pair)
+        object.__setattr__(self, "origin", contact.origin)
+        object.__setattr__(self, "_contact", contact)
 
     def solve(self, *, threads: int | None = None, progress=None,
               raise_on_failure: bool = True) -> ContactResult:
@@ -131,15 +129,8 @@ class ProblemFile:
         options = self.options
         if threads is not None:
             options = dataclasses.replace(options, threads=threads)
-        c = self.origin
-        try:
-            result = self._contact.solve(options, steps=self.steps or None, progress=progress,
-                                         raise_on_failure=raise_on_failure)
-        except ConvergenceError as exc:
-            if c is not None and exc.result is not None:
-                exc.result = translated_result(exc.result, c, [b.mesh for b in self.bodies])
-            raise
-        return result if c is None else translated_result(result, c, [b.mesh for b in self.bodies])
+        return self._contact.solve(options, steps=self.steps or None, progress=progress,
+                                   raise_on_failure=raise_on_failure)
 
     def write(self, result: ContactResult, out_dir, *, force: bool = False) -> list[pathlib.Path]:
         """Write ``result`` into ``out_dir`` as ``bemcontact run`` does: the
@@ -151,7 +142,8 @@ class ProblemFile:
     def contact_problem(self) -> ContactProblem:
         """The :class:`~bemcontact.contact.ContactProblem` (the same object on
         every call, so a frame built while loading is reused by the solve);
-        its bodies are translated by ``-origin`` when ``origin`` is set."""
+        it solves relative to ``origin`` itself and returns results at the
+        bodies' position."""
         return self._contact
 
 

@@ -53,7 +53,6 @@ from ..inputs import MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg.threads import available_cores
 from ..output import write_summary
 from ..problemfile import load_problem
-from ..problemfile.origin import translated_result
 from ..problemfile.checks import Checker, a_type, one_line
 from ..settings import Key, check_settings, setting
 from .cache import BodyCache
@@ -307,18 +306,14 @@ def run_point(point_file: str, out_dir: str, group: str, cache_dir: str, threads
         opt = pf.options if content_threads else replace(pf.options, threads=threads)
         output = pf.output if figures else replace(pf.output, figures=False)
         cond = _condensation(group, pf, opt, cache_dir)
-        # as ProblemFile.solve: bodies far from the origin are solved relative
-        # to their own (problemfile/origin.py) and the results moved back
-        meshes = [b.mesh for b in pf.bodies]
-        back = ((lambda r: r) if pf.origin is None
-                else (lambda r: translated_result(r, pf.origin, meshes)))
+        # bodies far from the origin: ContactProblem solves relative to their
+        # own and returns the results at their position (contact/origin.py)
         try:
-            result = back(pf.contact_problem().solve(opt, steps=pf.steps or None,
-                                                     condensed=cond))
+            result = pf.contact_problem().solve(opt, steps=pf.steps or None, condensed=cond)
         except ConvergenceError as exc:
             row.update(status="not converged", error=one_line(str(exc)))
             if exc.result is not None:
-                r = back(exc.result)
+                r = exc.result
                 row.update(outputs(r))
                 write_summary(r, out_dir, pf.echo, error=str(exc))
         else:

@@ -1,6 +1,7 @@
-"""Bodies far from the origin (bemcontact.problemfile.origin, issue 24: the
-two cubes offset by 1e12 changed the normal force by 0.5 % and every frame
-state).  A rigid offset of the whole problem changes nothing."""
+"""Bodies far from the origin through a problem file (issue 24: two cubes
+offset by 1e12 changed the normal force by 0.5 % and every frame state;
+ContactProblem solves relative to their own origin, bemcontact.contact.origin).
+A rigid offset of the whole problem changes nothing."""
 
 from __future__ import annotations
 

@@ -333,7 +333,7 @@ def test_bodies_far_from_the_origin(tmp_path, client):
         text = text.replace(a, b)
     path.write_text(text)
     pf = bc.load_problem(path)
-    assert pf.origin is not None  # the case of problemfile/origin.py
+    assert pf.origin is not None  # the case of contact/origin.py
     result = run_sweep(path, tmp_path / "out", vary=[f"{MU}=0.01"], client=client)
     assert result.rows[0]["status"] == "ok"
     assert main(["run", str(tmp_path / "out" / "points" / "p0001.toml"), "--out",

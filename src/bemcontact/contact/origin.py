@@ -7,7 +7,10 @@ origin of their own, a node's coordinates (the lowest corner of both
 bodies' nodes), chosen only when the bodies lie farther from the global
 origin than a few times their size; the subtraction of a node's coordinate
 is exact where the nodes lie within a factor two of it, so a rigid offset
-of the whole problem changes nothing, and the results are translated back."""
+of the whole problem changes nothing, and the results are translated back.
+:class:`~bemcontact.contact.ContactProblem` does this itself (its solve and
+its condensation), so every caller, the problem file and the sweep
+included, gets results at the bodies' own position."""
 
 from __future__ import annotations
 
@@ -16,6 +19,7 @@ import dataclasses
 
 import numpy as np
 
+from ..bem.conditions import Displacement, Traction
 from ..mesh import SurfaceMesh
 
 #: The bodies are solved relative to their own origin when their
@@ -34,8 +38,9 @@ def own_origin(bodies) -> np.ndarray | None:
 
 
 def translated_bodies(bodies, origin: np.ndarray):
-    """Copies of ``bodies`` whose meshes are translated by ``-origin`` (their
-    conditions are translation invariant; the mesh checks hold as they are)."""
+    """Copies of ``bodies`` whose meshes are translated by ``-origin`` (the
+    mesh checks hold as they are; conditions given as functions of position
+    are evaluated at the user's points)."""
     out = []
     for b in bodies:
         m = b.mesh
@@ -43,8 +48,30 @@ def translated_bodies(bodies, origin: np.ndarray):
         c.mesh = SurfaceMesh(m.nodes - origin, m.elements, m.element_type, m.regions,
                              source=m.source)
         c._disc = None
+        c.boundary_conditions = translated_states([[b.boundary_conditions]], origin)[0][0]
         out.append(c)
     return tuple(out)
+
+
+def _shifted(condition, origin: np.ndarray):
+    """``condition`` for the translated body: a value given as a function of
+    position is evaluated at the user's points (translated back)."""
+    f = getattr(condition, "value", None)
+    if not callable(f):
+        return condition
+    if isinstance(condition, Displacement):
+        return Displacement(lambda X: f(X + origin))
+    if isinstance(condition, Traction):
+        return Traction(lambda X, n: f(X + origin, n))
+    return condition  # pragma: no cover - only these two take callables
+
+
+def translated_states(states, origin: np.ndarray):
+    """Checked states (per state, per body: region -> conditions, as
+    :meth:`ContactProblem.states` gives) for the translated bodies: the
+    same objects except conditions given as functions of position."""
+    return [[{r: tuple(_shifted(c, origin) for c in items) for r, items in body.items()}
+             for body in st] for st in states]
 
 
 def translated_result(result, origin: np.ndarray, meshes):
@@ -76,4 +103,4 @@ def translated_result(result, origin: np.ndarray, meshes):
     return one(result)
 
 
-__all__ = ["FAR", "own_origin", "translated_bodies", "translated_result"]
+__all__ = ["FAR", "own_origin", "translated_bodies", "translated_result", "translated_states"]
