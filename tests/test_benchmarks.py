@@ -62,3 +62,22 @@ def test_hlu_factor_benchmark_smoke():
     assert rec["nodes"] == 312 and rec["unknowns"] == 936
     assert rec["refined_residual"] <= 1e-10
     assert rec["factor_mb"] > 0 and rec["dense_mb"] == pytest.approx(8 * 936**2 / 1e6)
+
+
+def test_output_formats_benchmark_smoke():
+    """benchmarks/output_formats_N100_160.py on a tiny box: every format writes
+    both series and reads back to the values written (the script checks);
+    XDMF and VTKHDF only where h5py and vtk are installed (benchmark-only
+    dependencies)."""
+    spec = importlib.util.spec_from_file_location("b5", BENCH / "output_formats_N100_160.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    expected = {"pvd": 6}  # 2 series x (2 steps + the .pvd)
+    if importlib.util.find_spec("h5py") and importlib.util.find_spec("vtk"):
+        expected |= {"xdmf": 4, "vtkhdf": 2, "vtkhdf_gz4": 2}  # .xdmf + .h5; one file
+    rows = mod.measure(3, steps=2, repeat=1, formats=list(expected))
+    assert {r["format"]: r["files"] for r in rows} == expected
+    for r in rows:
+        assert r["nodes"] == 56 and r["interface_nodes"] == 16 and r["bytes"] > 0
+        assert r["write_fsync_s"] >= r["write_s"] > 0
+    assert "| 3 | 56 | pvd |" in mod.table(rows)
