@@ -487,7 +487,7 @@ def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch,
         import re
 
         assert re.search(r"; the solve's estimated peak memory is \d+\.\d\d GB \(at the "
-                         r"(condensation of (lower|upper)|newton)\);", err), err
+                         r"(frame|condensation of (lower|upper)|newton)\);", err), err
         assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
         assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "tiny.toml"]
     with pytest.raises(MemoryError):

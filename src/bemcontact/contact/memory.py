@@ -6,6 +6,16 @@ cannot fit in the machine's memory.
 The model follows the arrays the solve holds (8-byte doubles; N_a body
 nodes, n_a contact nodes, m active frame nodes, S load states):
 
+* the frame build (:class:`~bemcontact.contact.ContactFrame`), from the sizes
+  known before it (E_a elements of the contact surfaces, k nodes per element,
+  f frame element corners, q = order^2 quadrature points per fan triangle):
+  arrays per quadrature point of every clipped element pair (points, local
+  coordinates, metrics, the bases) and the entries of D, of the frame mass
+  and their sparse assembly, :data:`FRAME_POINT` + :data:`FRAME_ENTRY` f k
+  bytes per point, at :data:`FRAME_FAN` (sqrt(E_1) + sqrt(E_2))^2 fan
+  triangles (the clipped pairs of two meshes over one area; measured on
+  box pairs in general position and Hertz's sphere on a block, below);
+
 * condensation of body a: its system matrix (3N_a + 6)^2 (dense, LU in place;
   compressed: the H-matrix and its H-LU, each the measured fraction of the
   dense matrix at that size, docs/benchmarks.md), the dense G columns of the
@@ -37,6 +47,22 @@ from .modes import CHUNK, DENSE_MASS
 _COMPRESSED = ((2094, 0.487), (4974, 0.264), (10014, 0.144), (20112, 0.081), (49614, 0.036))
 
 _DOUBLE = 8.0
+
+#: Frame build: bytes per quadrature point, fixed and per (frame corner x
+#: element node) entry, fitted to tracemalloc peaks of ContactFrame (bytes
+#: per point: quad4 1,213, tri3 872, quad8 1,985, tri6 1,335; the fit
+#: gives 1,218, 882, 1,986, 1,314), and fan triangles per
+#: (sqrt(E_1) + sqrt(E_2))^2: box pairs 21 x 21 on 16 x 16 quad4 1.89,
+#: 80 x 80 on 61 x 61 quad4 1.97, 41 x 41 on 30 x 30 tri3 1.89, 21 on 16
+#: tri6 1.82 (commensurate grids 1.3-1.5; sphere on block h = 0.1, 0.07:
+#: 1.04, 1.31, the cap only partly facing the block).  Measured peak over
+#: the estimate: box pairs in general position 0.93-0.98 (quad4 21/16
+#: 113.1 of 120.1 MB, 80/61 1,710 of 1,744 MB; tri3 41/30 599 of 640 MB),
+#: commensurate grids 0.73, sphere_on_block at fine_size 0.1, 0.07, 0.05
+#: 0.52, 0.65, 0.76 (172 of 333, 319 of 491, 565 of 746 MB).
+FRAME_POINT = 450.0
+FRAME_ENTRY = 48.0
+FRAME_FAN = 2.0
 
 
 def _compressed_fraction(nodes: int) -> float:
@@ -82,11 +108,23 @@ def machine_memory() -> tuple[float, float]:
         return float("inf"), float("inf")
 
 
+def frame_bytes(elements, element_nodes: int, corners: int, order: int = 6) -> float:
+    """Peak bytes of the frame build for contact surfaces of ``elements``
+    (E_1, E_2) elements with at most ``element_nodes`` nodes and ``corners``
+    corners each, at quadrature ``order`` (the frame's, 6): FRAME_FAN
+    (sqrt(E_1) + sqrt(E_2))^2 order^2 points of FRAME_POINT + FRAME_ENTRY
+    corners element_nodes bytes."""
+    e1, e2 = (float(e) for e in elements)
+    points = FRAME_FAN * (np.sqrt(e1) + np.sqrt(e2)) ** 2 * order * order
+    return float(points * (FRAME_POINT + FRAME_ENTRY * corners * element_nodes))
+
+
 @dataclass
 class MemoryEstimate:
     """Bytes at the peaks of the solve's phases; ``peak`` is the largest,
-    process included.  ``phases``: name -> bytes (``condensation <body>``,
-    ``newton``); ``process``: the resident memory when estimated."""
+    process included.  ``phases``: name -> bytes (``frame``,
+    ``condensation of <body>``, ``newton``); ``process``: the resident
+    memory when estimated."""
 
     phases: dict = field(default_factory=dict)
     process: float = 0.0
@@ -100,13 +138,16 @@ class MemoryEstimate:
         return f"{self.peak / 1e9:.2f} GB (at the {worst})"
 
 
-def estimate(bodies, nodes, m: int, states: int, controls, linear) -> MemoryEstimate:
+def estimate(bodies, nodes, m: int, states: int, controls, linear,
+             frame: float = 0.0) -> MemoryEstimate:
     """The estimate for ``bodies`` (each with a ``discretization``),
     ``nodes`` their contact node counts, ``m`` active frame nodes, ``states``
-    load states, ``controls`` the force-controlled components per body and
+    load states, ``controls`` the force-controlled components per body,
     ``linear`` the condensation's
-    :class:`~bemcontact.linalg.LinearSolverOptions`."""
+    :class:`~bemcontact.linalg.LinearSolverOptions` and ``frame`` the frame
+    build's bytes (:func:`frame_bytes`)."""
     out = MemoryEstimate(process=resident_bytes())
+    out.phases["frame"] = float(frame)
     kept = 0.0
     m3 = 3 * m
     for body, nc, ctl in zip(bodies, nodes, controls):
@@ -126,4 +167,4 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear) -> MemoryEsti
     return out
 
 
-__all__ = ["MemoryEstimate", "estimate", "least_body_bytes", "machine_memory", "resident_bytes"]
+__all__ = ["MemoryEstimate", "estimate", "frame_bytes", "least_body_bytes", "machine_memory", "resident_bytes"]

@@ -16,12 +16,13 @@ from .._native import core
 from ..bem.body import ElasticBody
 from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
 from ..linalg.threads import blas_threads, usable_threads
+from ..mesh.element import CORNERS
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
 from .frame import ContactFrame
 from .interface import InterfaceSystem, traction_modes
-from .memory import MemoryEstimate, estimate, machine_memory
+from .memory import MemoryEstimate, estimate, frame_bytes, machine_memory, resident_bytes
 from .newton import NewtonSteps, newton
 from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
@@ -151,9 +152,20 @@ class ContactProblem:
             )
         return self._frame
 
+    def frame_memory(self) -> float:
+        """Peak bytes of the frame build, from the contact surfaces' element
+        counts alone (:func:`~bemcontact.contact.memory.frame_bytes`)."""
+        counts, k, corners = [], 0, 0
+        for b, s in zip(self.bodies, (self.pair.surface1, self.pair.surface2)):
+            m = b.mesh
+            counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
+            k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
+        return frame_bytes(counts, k, corners)
+
     def memory_estimate(self, options: SolverOptions | None = None, steps=None) -> MemoryEstimate:
         """Peak memory of :meth:`solve` with these ``options`` and ``steps``
-        (:mod:`bemcontact.contact.memory`), from the sizes; builds the frame."""
+        (:mod:`bemcontact.contact.memory`), from the sizes; builds the frame
+        (:meth:`solve` first checks the frame build's own estimate)."""
         opt = options or SolverOptions()
         steps = [LoadStep(increments=opt.load_steps)] if steps is None else list(steps)
         states = self.states(steps)
@@ -162,6 +174,7 @@ class ContactProblem:
             self.bodies, [frame.nodes(a).size for a in range(2)],
             int(np.count_nonzero(frame.active)), len(states),
             [len(b.controls(states[0][a])) for a, b in enumerate(self.bodies)], opt.linear,
+            self.frame_memory(),
         )
 
     def _at_origin(self, states):
@@ -177,20 +190,34 @@ class ContactProblem:
     def _check_memory(self, opt, steps) -> None:
         """Refuse a solve whose estimated peak exceeds the machine's available
         memory by more than the estimate's uncertainty (it would be killed
-        out of memory after minutes); warn when it comes close."""
-        est = self.memory_estimate(opt, steps)
+        out of memory after minutes); warn when it comes close.  The frame
+        build is checked first, before it allocates."""
+        self.check_frame_memory()
         total, available = machine_memory()
-        if est.peak > 1.25 * available:
-            raise ConfigError(
-                f"the solve needs about {est.text()}, more than this machine's "
-                f"{available / 1e9:.1f} GB of available memory; use compressed operators "
-                "([solver.linear] method = \"hmatrix\") or smaller contact surfaces"
-            )
+        est = self.memory_estimate(opt, steps)
+        self._refuse(est, available, "compressed operators ([solver.linear] method = "
+                     "\"hmatrix\") or smaller contact surfaces")
         if est.peak > 0.9 * available:
             warnings.warn(
                 f"the solve needs about {est.text()}, close to this machine's "
                 f"{available / 1e9:.1f} GB of available memory", ResourceLimitWarning,
                 stacklevel=3,
+            )
+
+    def check_frame_memory(self) -> None:
+        """Refuse (ConfigError, one line) to build a frame whose estimated
+        peak (:meth:`frame_memory`) exceeds the available memory by more
+        than the estimate's uncertainty; nothing once the frame is built."""
+        if self._frame is None:
+            self._refuse(MemoryEstimate({"frame": self.frame_memory()}, resident_bytes()),
+                         machine_memory()[1], "coarser or smaller contact surfaces")
+
+    @staticmethod
+    def _refuse(est: MemoryEstimate, available: float, fix: str) -> None:
+        if est.peak > 1.25 * available:
+            raise ConfigError(
+                f"the solve needs about {est.text()}, more than this machine's "
+                f"{available / 1e9:.1f} GB of available memory; use {fix}"
             )
 
     def contact_modulus(self) -> float:

@@ -291,6 +291,10 @@ class _Reader(Checker):
                 k = int(m.group(1)) - 1 if m else 0
                 self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
         if check_overlap:
+            try:  # the frame's memory estimate, before the frame allocates
+                problem.contact_problem().check_frame_memory()
+            except ConfigError as exc:
+                raise ConfigError(f"{path}: {exc}") from None
             try:
                 problem.contact_problem().frame
             except ConfigError as exc:
