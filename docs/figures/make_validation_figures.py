@@ -26,6 +26,9 @@ writes into docs/figures/ (or ``--out DIR``):
   tests/validation/test_boussinesq.py) at rim sizes 0.07, 0.05 and 0.035 a:
   pressure along r against Boussinesq's, and the force error after the
   finite block's measured compliance is removed (about 4 min on one core).
+* ``two_spheres_shear.png``: two identical hemispheres pressed together
+  with mu = 0.3 at h = 0.1 mm: |q| / p0 with the frame on one sphere and
+  between the surfaces (the default), and the pressure against Hertz.
 * ``fretting_loop.png``: the platen's tangential force against the
   contact's tangential approach over the whole history (initial loading to
   Q* = 0.75 mu P, then Q* -> -Q* -> Q* in 8 increments per branch) against
@@ -327,6 +330,47 @@ def fig_two_cubes(out: pathlib.Path) -> pathlib.Path:
     return png
 
 
+def fig_two_spheres_shear(out: pathlib.Path) -> pathlib.Path:
+    """Two identical hemispheres pressed together with mu = 0.3 (the set-up
+    of tests/validation/test_frame_between.py's defaults, h = 0.1 mm, 4
+    increments): |q| / p0 against r for the frame between the surfaces
+    (auto) and for the frame on one sphere; symmetry makes the exact shear
+    zero."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.2), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
+    for on, label, m in (("coarser", "frame on one sphere", "s"), ("auto", "frame between (auto)", "o")):
+        p = cases.two_spheres(0.1, gap=0.0, approach=0.06, friction_coefficient=0.3, frame_on=on)
+        res = p.solve(bc.SolverOptions(load_steps=4))
+        fr = res.frame
+        r = np.hypot(fr.points[:, 0], fr.points[:, 1])
+        p0 = fr.pressure.max()
+        q = np.linalg.norm(fr.tangential_traction, axis=1) / p0
+        closed = fr.state > 0
+        print(f"  {label}: max |q| = {q.max():.4f} p0, P = {res.normal_force:.2f} N")
+        ax.plot(r[closed], q[closed], m, markersize=2.5, label=f"{label}: max {q.max():.3f} p0")
+        if on == "auto":
+            ax2.plot(r[closed], fr.pressure[closed] / p0, "o", markersize=2.5, label="bemcontact")
+            hz = ref.hertz(res.normal_force, cases.SphereOnBlock().radius / 2,
+                           cases.SphereOnBlock().contact_modulus)
+            grid = np.linspace(0.0, hz.contact_radius, 300)
+            ax2.plot(grid, np.sqrt(1 - (grid / hz.contact_radius) ** 2), "k-", linewidth=1.2,
+                     label="Hertz, R_eff = R/2")
+    ax.axhline(0.01, color="0.6", linewidth=0.8, linestyle=":")
+    ax.set_xlabel("r (mm)")
+    ax.set_ylabel("|q| / p0 at closed frame nodes")
+    ax.set_title("shear between identical spheres (exact: 0)", fontsize=10)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    ax2.set_xlabel("r (mm)")
+    ax2.set_ylabel("p / p0")
+    ax2.set_title("pressure, frame between", fontsize=10)
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(fontsize=8)
+    return save_png(fig, out / "two_spheres_shear.png")
+
+
 def fig_boussinesq(out: pathlib.Path) -> pathlib.Path:
     from matplotlib.figure import Figure
 
@@ -387,6 +431,7 @@ FIGURES = {
     "cattaneo_mindlin_traction": fig_cattaneo_mindlin,
     "fretting_loop": fig_fretting_loop,
     "boussinesq_punch": fig_boussinesq,
+    "two_spheres_shear": fig_two_spheres_shear,
 }
 
 
