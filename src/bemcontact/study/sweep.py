@@ -31,6 +31,7 @@ path (the local cluster does; a remote one needs a shared file system).
 from __future__ import annotations
 
 import collections
+import concurrent.futures
 import contextlib
 import hashlib
 import importlib.util
@@ -224,7 +225,7 @@ def _connect(options: SweepOptions, client=None):
     if client is not None:
         yield client
         return
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if options.scheduler:
         try:
@@ -235,12 +236,45 @@ def _connect(options: SweepOptions, client=None):
         with c:
             yield c
         return
+    cluster, c = _local_cluster(options)
+    try:
+        yield c
+    finally:
+        _close(cluster, c)
+
+
+def _warm() -> None:
+    """Run on each worker once it starts: the imports of a point's task."""
+    from . import sweep  # noqa: F401  (the module of run_point, and what it imports)
+
+
+def _local_cluster(options: SweepOptions):
+    """A new local cluster (one single-threaded worker process per usable
+    core, or ``options.workers``) and its client, the workers' imports done."""
+    from distributed import Client, LocalCluster
+
     cores = available_cores()
     workers = options.workers or max(1, cores // options.threads)
-    with (LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                       dashboard_address=":0", silence_logs=40) as cluster,
-          Client(cluster) as c):
-        yield c
+    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                           dashboard_address=":0", silence_logs=40)
+    try:
+        c = Client(cluster)
+    except BaseException:
+        cluster.close()
+        raise
+    try:
+        c.run(_warm)
+    except BaseException:
+        _close(cluster, c)
+        raise
+    return cluster, c
+
+
+def _close(cluster, c) -> None:
+    try:
+        c.close()
+    finally:
+        cluster.close()
 
 
 def _groups(points: list[Point], workers: list[str]) -> dict[str, str]:
@@ -372,9 +406,28 @@ def run_sweep(
     if not isinstance(opt, SweepOptions):
         raise ConfigError(f"options must be SweepOptions, got {type(opt).__name__}")
     _require_dask()
-    plan = plan_sweep(problem, out, vary)
-    with _connect(opt, client) as c:
+    if client is not None or opt.scheduler:
+        plan = plan_sweep(problem, out, vary)
+        with _connect(opt, client) as c:
+            return _execute(plan, c, opt, progress, started)
+    # a local cluster starts (2 s on 2 cores: workers spawned, their imports)
+    # while the sweep is planned and checked (a second); bad input still
+    # fails before anything is written, and the cluster is closed
+    with concurrent.futures.ThreadPoolExecutor(1, thread_name_prefix="bemcontact-cluster") as ex:
+        starting = ex.submit(_local_cluster, opt)
+        try:
+            plan = plan_sweep(problem, out, vary)
+        except BaseException:
+            try:
+                _close(*starting.result())
+            except Exception:  # noqa: BLE001 - the planning error is the one to report
+                pass
+            raise
+        cluster, c = starting.result()
+    try:
         return _execute(plan, c, opt, progress, started)
+    finally:
+        _close(cluster, c)
 
 
 def _execute(plan: _Plan, client, opt: SweepOptions, progress, started) -> SweepResult:
