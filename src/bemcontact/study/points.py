@@ -15,7 +15,6 @@ from __future__ import annotations
 import copy
 import hashlib
 import itertools
-import json
 import math
 import os
 import pathlib
@@ -189,6 +188,21 @@ def parse_values(text: str) -> list:
 # ------------------------------------------------------------------ TOML
 
 
+def _toml_string(s: str) -> str:
+    """A TOML basic string: quotes, backslashes, control characters and DEL
+    escaped, everything else as it is (JSON's \\uD83D\\uDE00 surrogate escapes
+    are not TOML: a title with an emoji made an unreadable point file)."""
+    out = []
+    for ch in s:
+        if ch in '"\\':
+            out.append("\\" + ch)
+        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
+            out.append(f"\\u{ord(ch):04x}")
+        else:
+            out.append(ch)
+    return '"' + "".join(out) + '"'
+
+
 def _toml(v: Any) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -201,18 +215,18 @@ def _toml(v: Any) -> str:
             return "inf" if v > 0 else "-inf"
         return repr(v)
     if isinstance(v, str):
-        return json.dumps(v)
+        return _toml_string(v)
     if isinstance(v, list):
         return "[" + ", ".join(_toml(x) for x in v) + "]"
     if isinstance(v, dict):
-        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml(x)}" for k, x in v.items()) + "}"
+        return "{" + ", ".join(f"{_toml_string(str(k))} = {_toml(x)}" for k, x in v.items()) + "}"
     raise ConfigError(f"cannot write {v!r} ({a_type(v)}) into a problem file")
 
 
 def toml_text(content: dict, header: str = "") -> str:
     """A problem file's text for ``content`` (top-level keys, every table inline)."""
     lines = [f"# {line}" for line in header.splitlines()]
-    lines += [f"{json.dumps(str(k))} = {_toml(v)}" for k, v in content.items()]
+    lines += [f"{_toml_string(str(k))} = {_toml(v)}" for k, v in content.items()]
     return "\n".join(lines) + "\n"
 
 

@@ -24,6 +24,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from bemcontact.cli import main
+from bemcontact.study.points import toml_text
 
 # Two one-element-per-face cubes: meshing, checking and building the contact
 # frame take a few milliseconds.  Every section of docs/problem-file.md appears.
@@ -70,43 +71,8 @@ BASE: dict = {
 # ----------------------------------------------------------------------------- TOML writer
 
 
-def _toml_string(s: str) -> str:
-    out = []
-    for ch in s:
-        if ch == '"':
-            out.append('\\"')
-        elif ch == "\\":
-            out.append("\\\\")
-        elif ord(ch) < 0x20 or ord(ch) == 0x7F:
-            out.append(f"\\u{ord(ch):04x}")
-        else:
-            out.append(ch)
-    return '"' + "".join(out) + '"'
-
-
-def _toml_value(v) -> str:
-    if isinstance(v, bool):
-        return "true" if v else "false"
-    if isinstance(v, int):
-        return str(v)
-    if isinstance(v, float):
-        if math.isnan(v):
-            return "nan"
-        if math.isinf(v):
-            return "inf" if v > 0 else "-inf"
-        return repr(v)  # '1e+300', '5e-324', '-0.0': all valid TOML floats
-    if isinstance(v, str):
-        return _toml_string(v)
-    if isinstance(v, list):
-        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
-    if isinstance(v, dict):
-        return "{" + ", ".join(f"{_toml_string(k)} = {_toml_value(x)}" for k, x in v.items()) + "}"
-    raise TypeError(type(v))
-
-
-def dumps(doc: dict) -> str:
-    """TOML text of ``doc`` (nested tables and arrays of tables inline)."""
-    return "".join(f"{_toml_string(k)} = {_toml_value(v)}\n" for k, v in doc.items())
+# the package's own writer of problem files (bemcontact sweep writes each point with it)
+dumps = toml_text
 
 
 def test_writer_round_trips():
