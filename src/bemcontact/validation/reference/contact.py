@@ -2,8 +2,10 @@
 
 Sources (formulas only): K. L. Johnson, *Contact Mechanics*, Cambridge 1985,
 §3.4 (flat punch), §4.2 (Hertz), §7.2 (Cattaneo–Mindlin), §7.4
-(Mindlin–Deresiewicz unloading and the fretting loop); design notes
-``validation.md``.  Units are any consistent set (docs/theory.md); pressures
+(Mindlin–Deresiewicz unloading and the fretting loop); D. A. Spence, "The
+Hertz contact problem with finite friction", J. Elasticity 5 (1975)
+297–319 (dissimilar spheres under a growing normal load, derived below in
+the uncoupled approximation); design notes ``validation.md``.  Units are any consistent set (docs/theory.md); pressures
 and tractions > 0 as in the package conventions (pressure compressive).
 
 Notation: P normal force, Q tangential force (0 <= |Q| < mu P), R effective
@@ -17,6 +19,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.integrate import quad
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipk, ellipkm1
 
 from ...errors import ConfigError
 
@@ -175,6 +180,184 @@ def boussinesq_punch_pressure(r, radius: float, force: float) -> np.ndarray:
     return out
 
 
+# --------------------------------------------------------------------------- Spence
+
+
+def dundurs_beta(E1: float, nu1: float, E2: float, nu2: float) -> float:
+    """Dundurs' second parameter of bodies 1 and 2 (E2 = math.inf: rigid),
+
+        beta = [(1 - 2 nu1)/G1 - (1 - 2 nu2)/G2] / (2 [(1 - nu1)/G1 + (1 - nu2)/G2]),
+
+    G = E / (2 (1 + nu)).  |beta| <= 1/2 (a rigid body on nu = 0); beta > 0
+    when a normal pressure draws body 1's surface inward (toward the axis of
+    an axisymmetric load) more than body 2's: the radial displacement
+    difference u_r1 - u_r2 of two half-spaces under a common pressure p is
+    -beta K (1/r) int_0^r p s ds with K = (1 - nu1)/G1 + (1 - nu2)/G2."""
+    def parts(E, nu):
+        if math.isinf(E):
+            return 0.0, 0.0
+        G = _positive("youngs_modulus", E) / (2.0 * (1.0 + nu))
+        return (1.0 - 2.0 * nu) / G, (1.0 - nu) / G
+
+    a1, k1 = parts(E1, nu1)
+    a2, k2 = parts(E2, nu2)
+    if k1 + k2 == 0.0:
+        raise ConfigError("dundurs_beta: both bodies rigid")
+    return (a1 - a2) / (2.0 * (k1 + k2))
+
+
+def _spence_ratio(k: float) -> float:
+    """|beta| / mu as a function of c/a = k (decreasing from inf at 0 to 0 at 1)."""
+    return k * ellipkm1(k * k) / math.atanh(k)
+
+
+def _spence_k(beta: float, mu: float) -> float:
+    b = abs(float(beta))
+    mu = float(mu)
+    if not (math.isfinite(b) and b <= 0.5 and math.isfinite(mu) and mu >= 0):
+        raise ConfigError(f"Spence: need |beta| <= 1/2 and mu >= 0, got beta={beta!r}, mu={mu!r}")
+    if b == 0.0:
+        return 1.0  # no tangential traction: nothing slips
+    if mu == 0.0:
+        return 0.0
+    x = b / mu
+    if x > 700.0:  # c/a ~ 4 exp(-x) underflows
+        return 0.0
+    lo = min(4.0 * math.exp(-x - 2.0), 0.5)
+    hi = 1.0 - 1e-15
+    if _spence_ratio(hi) >= x:
+        return hi
+    return brentq(lambda k: _spence_ratio(k) - x, lo, hi, xtol=1e-15, rtol=1e-15)
+
+
+def spence_stick_radius(contact_radius: float, beta: float, mu: float) -> float:
+    """Radius c of the central stick zone of two dissimilar elastic bodies
+    (Dundurs parameter ``beta``, friction coefficient ``mu``) pressed
+    together by a monotonically growing normal load with a Hertz pressure
+    on the disc of radius a (Spence's problem).  The loading is
+    self-similar: c/a is fixed, the root k of
+
+        |beta| / mu = k K(sqrt(1 - k^2)) / artanh(k)
+
+    (K the complete elliptic integral of the first kind of modulus
+    sqrt(1 - k^2)); c/a -> 1 as beta/mu -> 0 and c/a ~ 4 exp(-|beta|/mu)
+    as beta/mu -> inf.
+
+    Derivation (uncoupled, or Goodman, approximation: the shear's effect on
+    the pressure is neglected, so p is Hertz's): with K = (1 - nu1)/G1 +
+    (1 - nu2)/G2 the relative radial displacement of the surfaces is
+    K (U[q] - beta U[p]), U[p](r) = (1/r) int_0^r p s ds and U[q] the
+    radial displacement of a unit-compliance half-space under the radial
+    shear q on body 1.  Under growth da of the contact radius a stuck point
+    keeps its relative position, U[dq] = beta dU[p] on r < c, and a slipping
+    one carries dq = sign(beta) mu dp on c < r < a.  With U[q] = -d/dr W[phi],
+    phi(s) = int_s^inf q, W the unit-compliance normal displacement (a
+    Hankel-transform identity), this is an axisymmetric mixed problem for
+    phi whose Abel function h is known piecewise: from the stick condition
+    on t < c, h'(t) = -(beta C a/pi) ln((a + t)/(a - t)), and from the slip
+    traction on t > c, h'(t) = -(2 mu C/pi) t K(sqrt(1 - t^2/a^2)) (C = p0/a).
+    A jump of h' at c would make dq infinite there (~ (c - r)^(-1/2)), so c
+    is where they agree: the equation above."""
+    return _positive("contact_radius", contact_radius) * _spence_k(beta, mu)
+
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(12)
+
+
+def _spence_increment(s: float, k: float, b: float) -> float:
+    """Radial shear increment per unit growth of a, dq/da / (mu p0/a), at
+    s = r/a for beta/mu = b >= 0 (mu p0/a / sqrt(1 - s^2) in the slip zone)."""
+    L = math.sqrt(1.0 - s * s)
+    if s >= k:
+        return 1.0 / L
+    u0 = math.sqrt(k * k - s * s)
+    stick = 2.0 * b / math.pi * math.atanh(u0 / L) / L
+
+    def slip(u):
+        m = 1.0 - s * s - u * u  # 1 - t^2, t = sqrt(s^2 + u^2) in (k, 1)
+        return 0.5 if m < 1e-12 else 2.0 / math.pi * (ellipk(m) - ellipe(m)) / m
+
+    return (1.0 / L - stick - quad(slip, u0, L, epsabs=1e-14, epsrel=1e-12, limit=200)[0]) / s
+
+
+class _SpenceTable:
+    """q(r)/(mu p0) = rho [int_rho^k psi(t)/t^2 dt + sqrt(1 - k^2)/k] on the
+    stick zone rho = r/a < k (psi from :func:`_spence_increment`; the slip
+    zone part integrated in closed form), by 12-point Gauss-Legendre on a
+    grid geometric in t near 0 (psi ~ alpha t there) and uniform in
+    theta = asin(t/k) toward k (psi ~ sqrt(k - t))."""
+
+    def __init__(self, k: float, b: float):
+        self.k, self.b = k, b
+        self.t0 = 1e-3 * k
+        g = np.geomspace(self.t0, 0.1 * k, 15)
+        th = np.linspace(math.asin(0.1), 0.5 * math.pi, 41)
+        self.nodes = np.concatenate([g[:-1], k * np.sin(th)])
+        self.nodes[-1] = k
+        pieces = [self._piece(a, c) for a, c in zip(self.nodes[:-1], self.nodes[1:])]
+        # F[j] = int_{nodes[j]}^k psi/t^2
+        self.F = np.concatenate([np.cumsum(pieces[::-1])[::-1], [0.0]])
+        self.alpha = _spence_increment(self.t0, k, b) / self.t0
+
+    def _piece(self, lo: float, hi: float) -> float:
+        k = self.k
+        if hi <= 0.1 * k * (1 + 1e-12):  # log variable
+            x = 0.5 * (math.log(hi) - math.log(lo)) * _GL_X + 0.5 * (math.log(hi) + math.log(lo))
+            t = np.exp(x)
+            f = [_spence_increment(v, k, self.b) / v for v in t]  # psi/t^2 * dt/dx (= t)
+            return 0.5 * (math.log(hi) - math.log(lo)) * float(np.dot(_GL_W, f))
+        a, c = math.asin(min(lo / k, 1.0)), math.asin(min(hi / k, 1.0))
+        th = 0.5 * (c - a) * _GL_X + 0.5 * (c + a)
+        t = k * np.sin(th)
+        f = [_spence_increment(v, k, self.b) / v**2 * k * math.cos(x) for v, x in zip(t, th)]
+        return 0.5 * (c - a) * float(np.dot(_GL_W, f))
+
+    def __call__(self, rho: float) -> float:
+        k = self.k
+        tail = math.sqrt(1.0 - k * k) / k
+        if rho <= 0.0:
+            return 0.0
+        if rho < self.t0:
+            return rho * (self.F[0] + self.alpha * math.log(self.t0 / rho) + tail)
+        j = int(np.searchsorted(self.nodes, rho, side="right")) - 1
+        j = min(j, len(self.nodes) - 2)
+        return rho * (self._piece(rho, self.nodes[j + 1]) + self.F[j + 1] + tail)
+
+
+def spence_traction(r, contact_radius: float, peak_pressure: float, beta: float,
+                    mu: float) -> np.ndarray:
+    """Radial shear traction q_r(r) on body 1 (> 0 pointing away from the
+    axis) at the end of Spence's monotonic loading to the Hertz contact of
+    radius a and peak pressure p0 (the uncoupled approximation of
+    :func:`spence_stick_radius`): sign(beta) mu p(r) in the slip annulus
+    c < r < a and, in the stick zone, the sum of the point's increments over
+    the loading history (a' from r to a; self-similarity turns it into)
+
+        q(r) = sign(beta) mu p0 rho [int_rho^k psi(t)/t^2 dt + sqrt(1 - k^2)/k],
+        rho = r/a,
+
+    psi(s) = [1/sqrt(1 - s^2) - (2 b/pi) artanh(sqrt((k^2 - s^2)/(1 - s^2)))
+    / sqrt(1 - s^2) - int_{sqrt(k^2 - s^2)}^{sqrt(1 - s^2)} (2/pi) (K(m) -
+    E(m))/m du] / s, m = 1 - s^2 - u^2, b = |beta|/mu, k = c/a (the stuck
+    points' increment per unit growth of a, in units mu p0/a; K, E complete
+    elliptic integrals of parameter m).  q is continuous at c (= mu p(c)),
+    below mu p inside and ~ rho ln(rho) at the centre.  Body 2 carries -q_r."""
+    a = _positive("contact_radius", contact_radius)
+    p0 = _positive("peak_pressure", peak_pressure)
+    k = _spence_k(beta, mu)
+    rho = np.asarray(r, dtype=float) / a
+    out = np.zeros_like(rho)
+    if beta == 0 or mu == 0:  # no shear: identical (1 - 2 nu)/G, or frictionless
+        return out
+    slip = (rho >= k) & (rho < 1.0)
+    out[slip] = np.sqrt(1.0 - rho[slip] ** 2)
+    stick = rho < k
+    if np.any(stick) and k > 0:
+        table = _SpenceTable(k, abs(float(beta)) / float(mu))
+        out[stick] = [table(float(x)) for x in np.abs(rho[stick])]
+    return math.copysign(1.0, beta) * float(mu) * p0 * out
+
+
 __all__ = [
     "effective_modulus",
     "tangential_compliance_factor",
@@ -188,4 +371,7 @@ __all__ = [
     "fretting_loop_energy",
     "boussinesq_punch_force",
     "boussinesq_punch_pressure",
+    "dundurs_beta",
+    "spence_stick_radius",
+    "spence_traction",
 ]
