@@ -246,7 +246,7 @@ def spence_stick_radius(contact_radius: float, beta: float, mu: float) -> float:
     Derivation (uncoupled, or Goodman, approximation: the shear's effect on
     the pressure is neglected, so p is Hertz's): with K = (1 - nu1)/G1 +
     (1 - nu2)/G2 the relative radial displacement of the surfaces is
-    K (U[q] - beta U[p]), U[p](r) = (1/r) int_0^r p s ds and U[q] the
+    K (U[q] - beta U[p]) with U[p] = (1/r) int_0^r p s ds at radius r and U[q] the
     radial displacement of a unit-compliance half-space under the radial
     shear q on body 1.  Under growth da of the contact radius a stuck point
     keeps its relative position, U[dq] = beta dU[p] on r < c, and a slipping
