@@ -1,15 +1,17 @@
-"""Contact between two bodies: the Coulomb law, the geometric search, the
+"""Contact between bodies (two, or an assembly of several pairs): the Coulomb law, the geometric search, the
 contact frame, the pair, the condensation, the interface system and its
 Newton solve, the problem with its load steps, and the results."""
 
 from .condensation import CondensedBody, condense
 from .frame import ContactFrame
+from .frames import FrameSet
 from .options import SolverOptions
 from .pair import ContactPair
 from .problem import ContactProblem, LoadStep
-from .results import ContactResult, FrameResult, InterfaceResult, StepRecord
+from .results import ContactResult, FrameResult, InterfaceResult, PairResult, StepRecord
 
 __all__ = [
     "ContactPair", "ContactProblem", "LoadStep", "SolverOptions", "ContactFrame", "condense",
-    "CondensedBody", "ContactResult", "FrameResult", "InterfaceResult", "StepRecord",
+    "CondensedBody", "ContactResult", "FrameResult", "FrameSet", "InterfaceResult", "PairResult",
+    "StepRecord",
 ]

@@ -16,19 +16,22 @@ from ..errors import ConfigError
 from ..mesh.element import element_geometry
 from . import law
 from .frame import ContactFrame
+from .frames import FrameSet
 from .modes import CHUNK, TractionModes
 from .search import locate
 
 
-def traction_modes(frame: ContactFrame) -> tuple[TractionModes, TractionModes]:
-    """Each body's traction modes on the frame's active nodes (body 1
-    receives -lam, body 2 +lam): what :func:`~bemcontact.contact.condense`
-    condenses each body on for :class:`InterfaceSystem`."""
-    act = np.flatnonzero(frame.active)
-    return tuple(
-        TractionModes(frame.D[i][:, act], frame.Q[act], frame.M[i], sign)
-        for i, sign in enumerate((-1.0, 1.0))
-    )
+def traction_modes(frame: ContactFrame | FrameSet) -> tuple[TractionModes, ...]:
+    """Each body's traction modes on the active nodes of ``frame`` (a
+    :class:`ContactFrame`: body 1 receives -lam, body 2 +lam; a
+    :class:`~bemcontact.contact.frames.FrameSet`: every pair's): what
+    :func:`~bemcontact.contact.condense` condenses each body on for
+    :class:`InterfaceSystem`."""
+    return _frame_set(frame).traction_modes()
+
+
+def _frame_set(frame: ContactFrame | FrameSet) -> FrameSet:
+    return FrameSet.single(frame) if isinstance(frame, ContactFrame) else frame
 
 
 def _balance(force, target: float, step: float) -> float | None:
@@ -109,33 +112,51 @@ class RelativeDisplacement:
 
 
 class InterfaceSystem:
-    """The nonsmooth interface system of eq. 17 after condensing both bodies:
-    unknowns z = (lam (m active frame nodes x 3, local), alpha_1, alpha_2,
-    U_1, U_2) with alpha the free rigid-mode amplitudes and U the platen
+    """The nonsmooth interface system of eq. 17 after condensing the bodies:
+    unknowns z = (lam (m active frame nodes x 3, local; every pair's,
+    stacked: :class:`~bemcontact.contact.frames.FrameSet`), then per body
+    alpha_a, U_a) with alpha the free rigid-mode amplitudes and U the platen
     translations of force-controlled components.  Loads enter through the
-    weights ell (S,) over the boundary-condition states."""
+    weights ell (S,) over the boundary-condition states.
 
-    def __init__(self, frame: ContactFrame, cb, mu: float, r_scale: float) -> None:
-        self.frame = frame
+    ``frame``: the :class:`ContactFrame` of two bodies, or a ``FrameSet``;
+    ``cb`` the condensed bodies (in the FrameSet's body order); ``mu`` and
+    ``r_scale`` (the augmentation c E*) a number, or one per pair."""
+
+    def __init__(self, frame, cb, mu, r_scale) -> None:
+        fs = _frame_set(frame)
+        self.frames = fs
+        #: the frame of a single pair (None for an assembly)
+        self.frame = fs.frames[0] if len(fs.frames) == 1 else None
         self.cb = cb
-        self.mu = float(mu)
-        act = np.flatnonzero(frame.active)
-        self.act = act
-        m = act.size
+        npairs = len(fs.frames)
+        mu_p = np.broadcast_to(np.asarray(mu, dtype=float), (npairs,))
+        rs_p = np.broadcast_to(np.asarray(r_scale, dtype=float), (npairs,))
+        #: the friction coefficient of each pair, and of each frame node
+        self.mu = float(mu_p[0]) if npairs == 1 else mu_p.copy()
+        self.mu_base = mu_p[fs.pair_of]
+        self.act = fs.act[0] if npairs == 1 else None
+        m = fs.m
         self.m = m
         #: the friction coefficient of each node in the current increment
         #: (0 while the node closes: :meth:`start_increment`)
-        self.mu_nodes = np.full(m, self.mu)
-        a = frame.weights[act]
+        self.mu_nodes = self.mu_base.copy()
+        a = fs.weights
         self.a = a
         self.area = float(a.sum())
-        self.r_scale = float(r_scale)
-        self.size = frame.size[act]
+        self.r_scale = rs_p[fs.pair_of]
+        self.size = fs.size
         self.r = self.r_scale / self.size  # r_n = r_t = c E*/h_j
+        #: the pair of each node (clusters of the predictor stay in one)
+        self.pair_of = fs.pair_of.copy()
         #: an aggregated system's prolongation (3m_fine, 3m) and restriction
         #: (3m, 3m_fine) of tractions (:meth:`aggregated`); None here
         self.prolongation = self.restriction = None
-        weigh = RelativeDisplacement(frame, act)
+        weighs = [RelativeDisplacement(f, act) for f, act in zip(fs.frames, fs.act)]
+
+        def weigh(G, p, overwrite=False):
+            return weighs[p](G, overwrite=overwrite)
+
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
         k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
@@ -153,24 +174,33 @@ class InterfaceSystem:
                     "(condense(..., modes=traction_modes(frame)[i]))"
                 )
             # nodal forces per frame traction B (signed); the relative
-            # displacement k = sum_a W_a x_a[dofs], W_a = weigh(B_a^T)
-            Bt = c.modes.B.T  # (3m, 3n) sparse
-            K += weigh(Bt @ c.F, overwrite=True)
-            if frame.rule == "mortar":
-                # positions: exact for any overlap because (*) holds
-                X = c.body.discretization.points[c.nodes].ravel()
-            else:
-                # point evaluation violates (*): take the initial gap from each
-                # node's offset to the frame surface (the paper's g0), so the
-                # position of the origin does not enter
-                X = frame.offsets(i).ravel()
-            k0X += weigh(Bt @ X)
-            k0u += weigh(Bt @ c.u0)
-            BtR = Bt @ c.Rc
-            self.L.append(weigh(BtR))
-            self.L.append(weigh(Bt @ c.Yc))
+            # displacement k = sum_a W_a x_a[dofs], W_a = weigh(B_a^T),
+            # on the rows of the pairs the body is in
+            Bt = c.modes.B.T.tocsr()  # (3m, 3n) sparse
+            Li = np.zeros((3 * m, c.Rf.shape[1]))
+            Ly = np.zeros((3 * m, c.Y.shape[1]))
+            for p, side in fs.pairs_of(i):
+                f, dp = fs.frames[p], fs.dofs(p)
+                Bp = Bt[dp]
+                K[dp] += weigh(Bp @ c.F, p, overwrite=True)
+                if f.rule == "mortar":
+                    # positions: exact for any overlap because (*) holds
+                    X = c.body.discretization.points[c.nodes].ravel()
+                else:
+                    # point evaluation violates (*): take the initial gap from each
+                    # node's offset to the frame surface (the paper's g0), so the
+                    # position of the origin does not enter
+                    X = np.zeros((c.nodes.size, 3))
+                    X[fs.rows(p, side)] = f.offsets(side)
+                    X = X.ravel()
+                k0X[dp] += weigh(Bp @ X, p)
+                k0u[dp] += weigh(Bp @ c.u0, p)
+                Li[dp] = weigh(Bp @ c.Rc, p)
+                Ly[dp] = weigh(Bp @ c.Yc, p)
+            self.L.append(Li)
+            self.L.append(Ly)
             # equilibrium in the free rigid modes, scaled to traction units
-            self.E.append(BtR.T)
+            self.E.append((Bt @ c.Rc).T)
             self.CT.append(c.C @ c.X)  # (C X) first: C has a row per control
             # a platen translation that strains nothing (the body is held only
             # by the contact in that direction) has no resultant: make that
@@ -244,8 +274,11 @@ class InterfaceSystem:
         the bodies from the start, as friction at a first contact point does
         (a body held laterally only by friction would otherwise be free)."""
         gap = self.k(z, ell)[:, 2]
-        first = max(float(gap.min()), 0.0) if gap.size else 0.0
-        self.mu_nodes = np.where(gap > first + 1e-8 * self.size, 0.0, self.mu)
+        # the first touch of each pair (every pair holds its bodies)
+        first = np.full(int(self.pair_of.max(initial=-1)) + 1, np.inf)
+        np.minimum.at(first, self.pair_of, gap)
+        first = np.maximum(first, 0.0)
+        self.mu_nodes = np.where(gap > first[self.pair_of] + 1e-8 * self.size, 0.0, self.mu_base)
 
     def aggregated(self, groups: np.ndarray) -> InterfaceSystem:
         """The same interface system on clusters of frame nodes: one
@@ -271,10 +304,20 @@ class InterfaceSystem:
             raise ConfigError("aggregated: every cluster needs at least one frame node")
         R = (scipy.sparse.diags(np.repeat(1.0 / ac, 3)) @ P.T
              @ scipy.sparse.diags(np.repeat(self.a, 3))).tocsr()
+        # a cluster lies in one pair (the predictor's clusters do): it takes
+        # that pair's friction and augmentation
+        pair = np.zeros(mc, dtype=np.int64)
+        pair[g] = self.pair_of
+        if np.any(pair[g] != self.pair_of):
+            raise ConfigError("aggregated: a cluster spans two contact pairs")
+        first = np.zeros(mc, dtype=np.int64)
+        first[g[::-1]] = np.arange(self.m)[::-1]  # a node of each cluster
         c = object.__new__(InterfaceSystem)
-        c.frame, c.cb, c.mu, c.act, c.m = self.frame, self.cb, self.mu, None, mc
-        c.mu_nodes = np.full(mc, self.mu)
-        c.a, c.area, c.r_scale = ac, self.area, self.r_scale
+        c.frame, c.frames, c.cb, c.mu, c.act, c.m = self.frame, self.frames, self.cb, self.mu, None, mc
+        c.pair_of = pair
+        c.mu_base = self.mu_base[first]
+        c.mu_nodes = c.mu_base.copy()
+        c.a, c.area, c.r_scale = ac, self.area, self.r_scale[first]
         c.size = np.sqrt(P1.T @ self.size**2)
         c.r = c.r_scale / c.size
         c.prolongation, c.restriction = P, R
@@ -414,19 +457,21 @@ class InterfaceSystem:
             col += nf + nc
         return z
 
-    def located(self, i: int):
-        """Where each contact node of body ``i`` sits on the other body's
-        contact surface: (element (n_i,), inside (n_i,), point (n_i, 3), the
-        other body's functional basis there (n_i, k)); geometry only, computed
-        once."""
-        if i not in self._located:
-            fr = self.frame
-            od = self.cb[1 - i].body.discretization
-            X = self.cb[i].body.discretization.points[self.cb[i].nodes]
-            el, xi, inside = locate(od, fr.surface_elements(1 - i), X, fr.search_distance)
+    def located(self, p: int, side: int):
+        """Where each contact node of side ``side`` of pair ``p`` sits on the
+        other side's contact surface: (element (n,), inside (n,), point
+        (n, 3), the other body's functional basis there (n, k)); geometry
+        only, computed once."""
+        if (p, side) not in self._located:
+            fs = self.frames
+            fr = fs.frames[p]
+            this, other = (self.cb[fs.links[p][s]] for s in (side, 1 - side))
+            od = other.body.discretization
+            X = this.body.discretization.points[fr.nodes(side)]
+            el, xi, inside = locate(od, fr.surface_elements(1 - side), X, fr.search_distance)
             xo, _, _ = element_geometry(od.mesh, el, xi)
-            self._located[i] = (el, inside, xo, od.basis_at(el, xi))
-        return self._located[i]
+            self._located[p, side] = (el, inside, xo, od.basis_at(el, xi))
+        return self._located[p, side]
 
 
 __all__ = ["InterfaceSystem", "RelativeDisplacement", "traction_modes"]

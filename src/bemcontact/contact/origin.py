@@ -89,12 +89,16 @@ def translated_result(result, origin: np.ndarray, meshes):
                                                    points=b.discretization.points + origin))
             for b, mesh in zip(r.bodies, meshes)
         )
+        pairs = [
+            dataclasses.replace(
+                p, interfaces=tuple(dataclasses.replace(i, points=i.points + origin)
+                                    for i in p.interfaces),
+                frame=dataclasses.replace(p.frame, points=p.frame.points + origin))
+            for p in r.pairs
+        ]
         new = dataclasses.replace(
-            r, bodies=bodies,
-            interfaces=tuple(dataclasses.replace(i, points=i.points + origin)
-                             for i in r.interfaces),
-            frame=dataclasses.replace(r.frame, points=r.frame.points + origin),
-            history=[],
+            r, bodies=bodies, pairs=pairs, interfaces=pairs[0].interfaces,
+            frame=pairs[0].frame, history=[],
         )
         done[id(r)] = new
         new.history = [one(h) for h in r.history]

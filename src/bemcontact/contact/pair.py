@@ -53,6 +53,12 @@ class ContactPair:
         relative approach shows a tangential component of order a/R that
         friction resists (measured between two identical spheres: up to
         0.038 p0 of shear where symmetry gives none; 0.0086 p0 between).
+    bodies:
+        The names of the bodies of ``surface1`` and ``surface2``, in that
+        order (the frame normal points from the first into the second).
+        Needed in an assembly (:class:`~bemcontact.contact.ContactProblem`
+        with ``bodies=`` and ``pairs=``); in a two-body problem optional, and
+        if given it must name body 1 and body 2.
     relative_displacement:
         What the nodal contact law acts on (docs/frame.md): ``"projected"``
         (default) the L2 projection of the bodies' relative displacement on
@@ -88,13 +94,31 @@ class ContactPair:
         "displacement `projected` on the frame's linear basis (nodal values) or `weighted` "
         "over each node's support (mortar weighted gap)", default="projected",
         choices=RELATIVE_DISPLACEMENTS))
+    bodies: tuple[str, str] | None = None
 
     def __post_init__(self) -> None:
         for name in ("surface1", "surface2"):
             v = getattr(self, name)
             if not isinstance(v, str) or not v:
                 raise ConfigError(f"ContactPair.{name} must be a region name, got {v!r}")
+        if self.bodies is not None:
+            b = self.bodies
+            if (isinstance(b, str) or not hasattr(b, "__len__") or len(b) != 2
+                    or not all(isinstance(x, str) and x for x in b)):
+                raise ConfigError(f"ContactPair.bodies must be two body names, got {b!r}")
+            if b[0] == b[1]:
+                raise ConfigError(
+                    f"ContactPair.bodies names {b[0]!r} twice; a pair couples two bodies")
+            object.__setattr__(self, "bodies", (b[0], b[1]))
         check_settings(self)
+
+    @property
+    def label(self) -> str:
+        """``body1:surface1/body2:surface2`` (``surface1/surface2`` without
+        body names): the pair in messages."""
+        if self.bodies is None:
+            return f"{self.surface1}/{self.surface2}"
+        return f"{self.bodies[0]}:{self.surface1}/{self.bodies[1]}:{self.surface2}"
 
 
 __all__ = ["ContactPair", "FRAME_ON", "FRAME_RULES", "RELATIVE_DISPLACEMENTS"]

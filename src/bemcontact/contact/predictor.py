@@ -42,14 +42,18 @@ COARSE_MIN = 150
 COARSE_TOLERANCE = 1e-6
 
 
-def clusters(points: np.ndarray, size: int = CLUSTER) -> np.ndarray:
+def clusters(points: np.ndarray, size: int = CLUSTER, groups: np.ndarray | None = None) -> np.ndarray:
     """(m,) cluster index (0..mc-1) of each of ``points`` (m, 3): recursive
     bisection across the longest side of the bounding box, a multiple of
     ``size`` points on one side, until a cluster has at most ``size`` points
-    (so between size/2 and size, nearly all ``size``)."""
+    (so between size/2 and size, nearly all ``size``); each of ``groups``
+    (m,) (e.g. the contact pair of each frame node) on its own."""
     points = np.asarray(points, dtype=float)
     out = np.empty(len(points), dtype=np.int64)
-    stack = [np.arange(len(points))]
+    if groups is None:
+        stack = [np.arange(len(points))]
+    else:
+        stack = [np.flatnonzero(groups == g) for g in np.unique(groups)[::-1]]
     n = 0
     while stack:
         idx = stack.pop()
@@ -78,7 +82,7 @@ class Predictor:
         self.levels: list[InterfaceSystem] = []
         cur, x = system, np.asarray(points, dtype=float)
         while cur.m > min_nodes:
-            g = clusters(x)
+            g = clusters(x, groups=cur.pair_of)
             coarse = cur.aggregated(g)
             w = cur.a[:, None] * x
             x = np.stack([np.bincount(g, w[:, i], coarse.m) for i in range(3)], axis=1)

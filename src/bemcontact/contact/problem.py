@@ -3,6 +3,7 @@ solve (condensation, then the generalized Newton method per load increment)."""
 
 from __future__ import annotations
 
+import difflib
 import time
 import warnings
 from collections.abc import Mapping
@@ -21,7 +22,8 @@ from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
 from .condensation import condense
 from .frame import ContactFrame
-from .interface import InterfaceSystem, traction_modes
+from .frames import FrameSet
+from .interface import InterfaceSystem
 from .memory import MemoryEstimate, estimate, frame_bytes, machine_memory, resident_bytes
 from .newton import NewtonSteps, newton
 from .options import SolverOptions
@@ -81,6 +83,12 @@ class LoadStep:
 _KIND_NAMES = ("traction", "displacement", "force")
 
 
+def _sequence(name: str, value) -> list:
+    if value is None or isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+        raise ConfigError(f"{name} must be a list, got {value!r}")
+    return list(value)
+
+
 def _kinds(body: ElasticBody, conditions) -> np.ndarray:
     """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
     known_u, _ = body.boundary_data(conditions)
@@ -94,73 +102,184 @@ def _kinds(body: ElasticBody, conditions) -> np.ndarray:
 
 
 class ContactProblem:
-    """Two elastic bodies and the contact pair between them.
+    """Elastic bodies in contact: two bodies and their contact pair, or an
+    assembly of any number of bodies and pairs.
 
     Parameters
     ----------
-    body1, body2:
-        :class:`~bemcontact.bem.body.ElasticBody` objects with distinct names.
-        Their contact surfaces must carry no boundary condition.
-    pair:
-        :class:`ContactPair`: the contact surfaces, friction, frame rule.
+    body1, body2, pair:
+        Two :class:`~bemcontact.bem.body.ElasticBody` objects with distinct
+        names and the :class:`ContactPair` between them (its ``bodies``, if
+        given, must name them in this order).
+    bodies, pairs:
+        Instead (keywords only): an assembly, ``bodies`` (two or more, with
+        distinct names) and ``pairs`` (one or more, each naming its two
+        bodies in ``ContactPair.bodies``).  A body may take part in several
+        pairs, on different surfaces or on one surface against several
+        bodies; every body must be in a pair.  Each body is condensed once
+        on the union of its contact surfaces, and one generalized Newton
+        method solves all frames at once (docs/theory.md).
 
-    Bodies far from the global origin (beyond :data:`~bemcontact.contact.origin.FAR`
-    times their extent) are solved relative to ``origin``, a node's
-    coordinates (:mod:`bemcontact.contact.origin`): a rigid offset of the
-    whole problem changes nothing, and results are returned at the bodies'
-    own position.  The :attr:`frame` and a ``Condensation`` are those
-    of the translated bodies (points relative to ``origin``).
+    A contact surface must carry no boundary condition.  Bodies far from the
+    global origin (beyond :data:`~bemcontact.contact.origin.FAR` times their
+    extent) are solved relative to ``origin``, a node's coordinates
+    (:mod:`bemcontact.contact.origin`): a rigid offset of the whole problem
+    changes nothing, and results are returned at the bodies' own position.
+    The :attr:`frame` and a ``Condensation`` are those of the translated
+    bodies (points relative to ``origin``).
     """
 
-    def __init__(self, body1: ElasticBody, body2: ElasticBody, pair: ContactPair) -> None:
-        for i, b in enumerate((body1, body2)):
+    def __init__(self, body1: ElasticBody | None = None, body2: ElasticBody | None = None,
+                 pair: ContactPair | None = None, *, bodies=None, pairs=None) -> None:
+        if bodies is not None or pairs is not None:
+            if body1 is not None or body2 is not None or pair is not None:
+                raise ConfigError(
+                    "give either body1, body2 and pair, or bodies= and pairs=, not both")
+            bodies, pairs = _sequence("bodies", bodies), _sequence("pairs", pairs)
+            named = True
+        else:
+            for i, b in enumerate((body1, body2)):
+                if not isinstance(b, ElasticBody):
+                    raise ConfigError(f"body{i + 1} must be an ElasticBody, got {type(b).__name__}")
+            bodies, pairs, named = [body1, body2], [pair], False
+        for i, b in enumerate(bodies):
             if not isinstance(b, ElasticBody):
-                raise ConfigError(f"body{i + 1} must be an ElasticBody, got {type(b).__name__}")
-        if not isinstance(pair, ContactPair):
-            raise ConfigError(f"pair must be a ContactPair, got {type(pair).__name__}")
-        if body1.name == body2.name:
-            raise ConfigError(f"the two bodies have the same name {body1.name!r}; name them apart")
-        for b, s in ((body1, pair.surface1), (body2, pair.surface2)):
-            if s not in b.mesh.region_names:
-                raise ConfigError(
-                    f"{b.name}: unknown contact surface {s!r}; the mesh has regions "
-                    f"{list(b.mesh.region_names)}"
-                )
-            if s in b.boundary_conditions:
-                raise ConfigError(
-                    f"{b.name}: the contact surface {s!r} also has a boundary condition; remove it"
-                )
-        self.bodies = (body1, body2)
-        self.pair = pair
+                raise ConfigError(f"bodies[{i}] must be an ElasticBody, got {type(b).__name__}")
+        for i, p in enumerate(pairs):
+            if not isinstance(p, ContactPair):
+                what = "pair" if not named else f"pairs[{i}]"
+                raise ConfigError(f"{what} must be a ContactPair, got {type(p).__name__}")
+        names = [b.name for b in bodies]
+        if len(bodies) < 2:
+            raise ConfigError(f"an assembly needs at least two bodies, got {len(bodies)}")
+        if not pairs:
+            raise ConfigError("an assembly needs at least one contact pair (pairs=[])")
+        for i, n in enumerate(names):
+            if n in names[:i]:
+                raise ConfigError(f"two bodies have the same name {n!r}; name them apart")
+        self.bodies = tuple(bodies)
+        self.pairs = tuple(pairs)
+        self.links = tuple(self._link(i, p, names, named) for i, p in enumerate(pairs))
+        self._check_surfaces()
+        #: the first (in a two-body problem the only) contact pair
+        self.pair = self.pairs[0]
         #: the point the bodies are solved relative to (None: the global origin)
         self.origin = own_origin(self.bodies)
         self._solved = (self.bodies if self.origin is None
                         else translated_bodies(self.bodies, self.origin))
-        self._frame: ContactFrame | None = None
+        self._frames: FrameSet | None = None
+
+    @staticmethod
+    def _link(i: int, p: ContactPair, names: list[str], named: bool) -> tuple[int, int]:
+        """The body indices of pair ``i`` (checked)."""
+        if p.bodies is None:
+            if named:
+                raise ConfigError(
+                    f"pairs[{i}] ({p.label}): name its two bodies (ContactPair.bodies); "
+                    f"the bodies are {names}")
+            return (0, 1)
+        for b in p.bodies:
+            if b not in names:
+                close = difflib.get_close_matches(b, names, n=1)
+                hint = f" (did you mean {close[0]!r}?)" if close else ""
+                raise ConfigError(
+                    f"{'pairs[%d]' % i if named else 'pair'} ({p.label}): unknown body {b!r}"
+                    f"{hint}; the bodies are {names}")
+        link = (names.index(p.bodies[0]), names.index(p.bodies[1]))
+        if not named and link != (0, 1):
+            raise ConfigError(
+                f"pair.bodies is {list(p.bodies)}; it must name body 1 and body 2, "
+                f"{names[:2]}, in this order")
+        return link
+
+    def _check_surfaces(self) -> None:
+        """Every contact surface a region of its body without a boundary
+        condition; no pair twice; every body in a pair."""
+        seen: dict[frozenset, int] = {}
+        for i, (p, link) in enumerate(zip(self.pairs, self.links)):
+            where = f"pairs[{i}] ({p.label})" if len(self.pairs) > 1 else "pair"
+            for b, s in zip((self.bodies[a] for a in link), (p.surface1, p.surface2)):
+                if s not in b.mesh.region_names:
+                    raise ConfigError(
+                        f"{where}: {b.name}: unknown contact surface {s!r}; the mesh has regions "
+                        f"{list(b.mesh.region_names)}"
+                    )
+                if s in b.boundary_conditions:
+                    raise ConfigError(
+                        f"{b.name}: the contact surface {s!r} also has a boundary condition; "
+                        "remove it"
+                    )
+            key = frozenset({(link[0], p.surface1), (link[1], p.surface2)})
+            if key in seen:
+                raise ConfigError(
+                    f"{where}: the same surfaces as pairs[{seen[key]}] "
+                    f"({self.pairs[seen[key]].label}); give each pair once")
+            seen[key] = i
+        used = {a for link in self.links for a in link}
+        for a, b in enumerate(self.bodies):
+            if a not in used:
+                raise ConfigError(
+                    f"body {b.name!r} is in no contact pair; add its pair, or solve it on its "
+                    "own (ElasticBody.solve)")
+
+    def surfaces(self, a: int) -> list[str]:
+        """The contact surfaces of body ``a`` (in the order of its pairs)."""
+        out = []
+        for p, link in zip(self.pairs, self.links):
+            for side, b in enumerate(link):
+                s = (p.surface1, p.surface2)[side]
+                if b == a and s not in out:
+                    out.append(s)
+        return out
+
+    @property
+    def frames(self) -> FrameSet:
+        """The contact frames of all pairs (built on first use)."""
+        if self._frames is None:
+            frames = []
+            for i, (p, link) in enumerate(zip(self.pairs, self.links)):
+                b1, b2 = (self._solved[a] for a in link)
+                try:
+                    f = ContactFrame(
+                        b1.discretization, p.surface1, b2.discretization, p.surface2,
+                        p.frame, names=(b1.name, b2.name),
+                        search_distance=p.search_distance,
+                        owner={"body1": 0, "body2": 1}.get(p.frame_on),
+                        between="auto" if p.frame_on == "auto" else p.frame_on == "between",
+                        projected=p.relative_displacement == "projected",
+                    )
+                except ConfigError as exc:
+                    if len(self.pairs) == 1:
+                        raise
+                    raise ConfigError(f"pairs[{i}] ({p.label}): {exc}") from None
+                if len(self.pairs) > 1 and not f.active.any():
+                    raise ConfigError(
+                        f"pairs[{i}] ({p.label}): the two surfaces are nowhere within the "
+                        f"search distance ({f.search_distance:g}) of each other, so they can "
+                        "never touch; move the bodies or raise contact.search_distance")
+                frames.append(f)
+            self._frames = FrameSet(frames, self.links, len(self.bodies))
+        return self._frames
 
     @property
     def frame(self) -> ContactFrame:
-        if self._frame is None:
-            b1, b2 = self._solved
-            self._frame = ContactFrame(
-                b1.discretization, self.pair.surface1, b2.discretization, self.pair.surface2,
-                self.pair.frame, names=(b1.name, b2.name),
-                search_distance=self.pair.search_distance,
-                owner={"body1": 0, "body2": 1}.get(self.pair.frame_on),
-                between="auto" if self.pair.frame_on == "auto" else self.pair.frame_on == "between",
-                projected=self.pair.relative_displacement == "projected",
-            )
-        return self._frame
+        """The contact frame of the first (in a two-body problem the only)
+        pair; an assembly's are in :attr:`frames`."""
+        return self.frames.frames[0]
 
     def frame_memory(self) -> float:
-        """Peak bytes of the frame build, from the contact surfaces' element
-        counts alone (:func:`~bemcontact.contact.memory.frame_bytes`)."""
-        counts, k, corners = [], 0, 0
-        for b, s in zip(self.bodies, (self.pair.surface1, self.pair.surface2)):
-            m = b.mesh
-            counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
-            k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
-        return frame_bytes(counts, k, corners)
+        """Peak bytes of the frame builds (the largest pair's), from the
+        contact surfaces' element counts alone
+        (:func:`~bemcontact.contact.memory.frame_bytes`)."""
+        peak = 0.0
+        for p, link in zip(self.pairs, self.links):
+            counts, k, corners = [], 0, 0
+            for a, s in zip(link, (p.surface1, p.surface2)):
+                m = self.bodies[a].mesh
+                counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
+                k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
+            peak = max(peak, frame_bytes(counts, k, corners))
+        return peak
 
     def memory_estimate(self, options: SolverOptions | None = None, steps=None) -> MemoryEstimate:
         """Peak memory of :meth:`solve` with these ``options`` and ``steps``
@@ -169,10 +288,10 @@ class ContactProblem:
         opt = options or SolverOptions()
         steps = [LoadStep(increments=opt.load_steps)] if steps is None else list(steps)
         states = self.states(steps)
-        frame = self.frame
+        fs = self.frames
         return estimate(
-            self.bodies, [frame.nodes(a).size for a in range(2)],
-            int(np.count_nonzero(frame.active)), len(states),
+            self.bodies, [fs.nodes(a).size for a in range(len(self.bodies))],
+            fs.m, len(states),
             [len(b.controls(states[0][a])) for a, b in enumerate(self.bodies)], opt.linear,
             self.frame_memory(),
         )
@@ -208,7 +327,7 @@ class ContactProblem:
         """Refuse (ConfigError, one line) to build a frame whose estimated
         peak (:meth:`frame_memory`) exceeds the available memory by more
         than the estimate's uncertainty; nothing once the frame is built."""
-        if self._frame is None:
+        if self._frames is None:
             self._refuse(MemoryEstimate({"frame": self.frame_memory()}, resident_bytes()),
                          machine_memory()[1], "coarser or smaller contact surfaces")
 
@@ -220,10 +339,12 @@ class ContactProblem:
                 f"{available / 1e9:.1f} GB of available memory; use {fix}"
             )
 
-    def contact_modulus(self) -> float:
-        """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2)."""
+    def contact_modulus(self, pair: int = 0) -> float:
+        """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) of the bodies of
+        ``pair`` (an index into :attr:`pairs`)."""
         return 1.0 / sum(
-            (1 - b.material.poisson_ratio**2) / b.material.youngs_modulus for b in self.bodies
+            (1 - self.bodies[a].material.poisson_ratio**2) / self.bodies[a].material.youngs_modulus
+            for a in self.links[pair]
         )
 
     def states(self, steps) -> list[list[dict]]:
@@ -231,7 +352,7 @@ class ContactProblem:
         (checked: known bodies and regions, no condition on a contact
         surface, the same kind of condition per component throughout)."""
         names = [b.name for b in self.bodies]
-        surfaces = (self.pair.surface1, self.pair.surface2)
+        surfaces = [self.surfaces(a) for a in range(len(self.bodies))]
         current = [dict(b.boundary_conditions) for b in self.bodies]
         base = [_kinds(b, c) for b, c in zip(self.bodies, current)]
         out = []
@@ -246,11 +367,13 @@ class ContactProblem:
                 a = names.index(name)
                 body = self.bodies[a]
                 checked = body.checked_conditions(changes, where=where)
-                if surfaces[a] in checked:
-                    raise ConfigError(
-                        f"{where}{name}: region {surfaces[a]!r} is the contact surface; it "
-                        "cannot carry a boundary condition"
-                    )
+                for s_ in surfaces[a]:
+                    if s_ in checked:
+                        raise ConfigError(
+                            f"{where}{name}: region {s_!r} is "
+                            f"{'the' if len(surfaces[a]) == 1 else 'a'} contact surface; it "
+                            "cannot carry a boundary condition"
+                        )
                 current[a].update(checked)
                 kinds = _kinds(body, current[a])
                 diff = np.flatnonzero(kinds != base[a])
@@ -347,7 +470,7 @@ class ContactProblem:
         self._check_memory(opt, steps)
         threads = usable_threads(opt.threads)
         with blas_threads(threads):
-            return condense_problem(self._solved, self.pair, self.frame,
+            return condense_problem(self._solved, self.pairs, self.links, self.frames,
                                     self._at_origin(states), threads,
                                     opt.linear, progress, condense_body)
 
@@ -355,8 +478,8 @@ class ContactProblem:
         """Check that ``condensed`` fits this problem and take its frame."""
         if not isinstance(condensed, Condensation):
             raise ConfigError(f"condensed must be a Condensation, got {type(condensed).__name__}")
-        condensed.check(self._solved, self.pair, opt.linear)
-        self._frame = condensed.frame
+        condensed.check(self._solved, self.pairs, opt.linear)
+        self._frames = condensed.frames
 
     @staticmethod
     def _increment(system, predictor, z, ell_prev, ell, k_prev, opt, report, done, total,
@@ -380,24 +503,26 @@ class ContactProblem:
     def _solve(self, opt, steps, states, raise_on_failure, report,
                condensed=None) -> ContactResult:
         t0 = time.perf_counter()
-        with Stopwatch(report, "frame", "contact frame"):
-            frame = self.frame
+        with Stopwatch(report, "frame", "contact frame" if len(self.pairs) == 1
+                       else f"contact frames ({len(self.pairs)} pairs)"):
+            fs = self.frames
         t1 = time.perf_counter()
         if condensed is not None:
             cb = condensed.bodies_for(self._solved, states)
         else:
-            modes = traction_modes(frame)
+            modes = fs.traction_modes()
             cb = tuple(
-                condense(b, frame.nodes(a), opt.threads, [st[a] for st in states], report,
+                condense(b, fs.nodes(a), opt.threads, [st[a] for st in states], report,
                          opt.linear, modes[a])
                 for a, b in enumerate(self._solved)
             )
         t2 = time.perf_counter()
-        system = InterfaceSystem(frame, cb, self.pair.friction_coefficient, opt.penalty * self.contact_modulus())
+        system = InterfaceSystem(
+            fs, cb, [p.friction_coefficient for p in self.pairs],
+            [opt.penalty * self.contact_modulus(i) for i in range(len(self.pairs))])
         t3 = time.perf_counter()
         steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
-        predictor = (Predictor(system, frame.points[system.act])
-                     if opt.predictor == "coarse" else None)
+        predictor = (Predictor(system, fs.points) if opt.predictor == "coarse" else None)
         records: list[StepRecord] = []
         history: list[ContactResult] = []
         z = system.zero()

@@ -8,51 +8,25 @@ import numpy as np
 
 from ..bem.body import BodySolution
 from . import law
-from .results import ContactResult, FrameResult, InterfaceResult
+from .results import ContactResult, FrameResult, InterfaceResult, PairResult
 
 
 def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
     """The :class:`ContactResult` at the solution ``z`` of ``system`` (an
     :class:`~bemcontact.contact.interface.InterfaceSystem`) for the load
-    weights ``ell``: frame tractions, gaps, slips and states (judged against
-    the increment's starting slip ``k_prev``), each body's full solution
-    (one product per body with its condensed response), the interface of
-    each body against the other, forces, and the Newton ``steps``."""
-    fr = system.frame
+    weights ``ell``: frame tractions, gaps, slips and states of every pair
+    (judged against the increment's starting slip ``k_prev``), each body's
+    full solution (one product per body with its condensed response), the
+    interface of each body against the other in each pair, forces, and the
+    Newton ``steps``."""
+    fs = system.frames
     lam, parts = system.split(z)
     kk = system.k(z, ell)
     lam3 = lam.reshape(-1, 3)
-    state_act = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
-    act = system.act
-    Q = fr.Q[act]
-    mfull = fr.n_frame
-    # frame results (inactive nodes: open, zero traction, NaN gap)
-    def full(v, fill=0.0):
-        out = np.full((mfull,) + v.shape[1:], fill, dtype=v.dtype)
-        out[act] = v
-        return out
-
-    t_glob = np.einsum("jcl,jl->jc", Q[:, :, :2], lam3[:, :2])
+    state = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
     k_init = system.k0X.reshape(-1, 3)
-    slip = np.einsum("jcl,jl->jc", Q[:, :, :2], kk[:, :2] - k_init[:, :2])
-    frame_res = FrameResult(
-        points=fr.points,
-        normals=fr.Q[:, :, 2],
-        pressure=full(lam3[:, 2]),
-        tangential_traction=full(t_glob),
-        gap=full(kk[:, 2], np.nan),
-        slip=full(slip),
-        state=full(state_act.astype(np.int8), np.int8(0)),
-        weights=fr.weights,
-    )
-    F = np.einsum("j,jcl,jl->c", system.a, Q, lam3)  # force on body 2
-    nbar = np.einsum("j,jc->c", system.a, Q[:, :, 2])
-    nbar /= np.linalg.norm(nbar)
-    Fn = float(F @ nbar)
-    Ft = float(np.linalg.norm(F - Fn * nbar))
-    sols, ifaces = [], []
+    sols = []
     controlled: dict[str, dict[str, np.ndarray]] = {}
-    state_full = frame_res.state
     for i, (c, b) in enumerate(zip(system.cb, bodies)):
         d = b.discretization
         tc = c.tractions(lam)
@@ -79,40 +53,85 @@ def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
                 timings=dict(c.timings),
             )
         )
-    for i, (c, b) in enumerate(zip(system.cb, bodies)):
-        ifaces.append(_interface(system, i, sols[i], sols[1 - i], state_full))
+    pairs = []
+    for p, (fr, act, link) in enumerate(zip(fs.frames, fs.act, fs.links)):
+        nodes = fs.slice(p)
+        pairs.append(_pair(system, p, fr, act, lam3[nodes], kk[nodes], k_init[nodes],
+                           state[nodes], system.a[nodes], [sols[a] for a in link],
+                           [bodies[a] for a in link]))
+    first = pairs[0]
     return ContactResult(
         converged=all(s.converged for s in steps) and len(steps) > 0,
         newton_iterations=sum(s.iterations for s in steps),
         steps=steps,
-        normal_force=Fn,
-        tangential_force=Ft,
-        contact_force=F,
-        bodies=(sols[0], sols[1]),
-        names=(bodies[0].name, bodies[1].name),
-        interfaces=(ifaces[0], ifaces[1]),
-        frame=frame_res,
+        normal_force=first.normal_force,
+        tangential_force=first.tangential_force,
+        contact_force=first.contact_force,
+        bodies=tuple(sols),
+        names=tuple(b.name for b in bodies),
+        interfaces=first.interfaces,
+        frame=first.frame,
+        pairs=pairs,
         control_displacements=controlled,
     )
 
 
-def _interface(system, i, sol, other_sol, frame_state) -> InterfaceResult:
-    """Body ``i``'s contact nodes: tractions, pointwise gap and slip
-    against the other body's surface, and the state of the frame node most
-    strongly coupled to each node."""
-    fr = system.frame
-    c = system.cb[i]
-    b = c.body
+def _pair(system, p, fr, act, lam3, kk, k_init, state_act, a, sols, bodies) -> PairResult:
+    """Pair p's frame fields, forces and interfaces (its active nodes'
+    tractions ``lam3``, relative displacements ``kk``, their initial values
+    ``k_init``, states and weights ``a``; its two bodies' solutions)."""
+    Q = fr.Q[act]
+
+    # frame results (inactive nodes: open, zero traction, NaN gap)
+    def full(v, fill=0.0):
+        out = np.full((fr.n_frame,) + v.shape[1:], fill, dtype=v.dtype)
+        out[act] = v
+        return out
+
+    t_glob = np.einsum("jcl,jl->jc", Q[:, :, :2], lam3[:, :2])
+    slip = np.einsum("jcl,jl->jc", Q[:, :, :2], kk[:, :2] - k_init[:, :2])
+    frame_res = FrameResult(
+        points=fr.points,
+        normals=fr.Q[:, :, 2],
+        pressure=full(lam3[:, 2]),
+        tangential_traction=full(t_glob),
+        gap=full(kk[:, 2], np.nan),
+        slip=full(slip),
+        state=full(state_act.astype(np.int8), np.int8(0)),
+        weights=fr.weights,
+    )
+    F = np.einsum("j,jcl,jl->c", a, Q, lam3)  # force on body 2
+    nbar = np.einsum("j,jc->c", a, Q[:, :, 2])
+    nbar /= max(float(np.linalg.norm(nbar)), np.finfo(float).tiny)
+    Fn = float(F @ nbar)
+    Ft = float(np.linalg.norm(F - Fn * nbar))
+    ifaces = tuple(_interface(system, p, side, sols[side], sols[1 - side], frame_res.state)
+                   for side in range(2))
+    return PairResult(
+        names=(bodies[0].name, bodies[1].name),
+        surfaces=(ifaces[0].surface, ifaces[1].surface),
+        normal_force=Fn, tangential_force=Ft, contact_force=F,
+        interfaces=ifaces, frame=frame_res,
+    )
+
+
+def _interface(system, p, side, sol, other_sol, frame_state) -> InterfaceResult:
+    """The contact nodes of side ``side`` of pair ``p``: tractions,
+    pointwise gap and slip against the other side's surface, and the state
+    of the frame node most strongly coupled to each node."""
+    fr = system.frames.frames[p]
+    b = system.cb[system.frames.links[p][side]].body
+    other = system.cb[system.frames.links[p][1 - side]].body
     d = b.discretization
-    nodes = c.nodes
+    nodes = fr.nodes(side)
     X = d.points[nodes]
     n = d.normals[nodes]
     u = sol.displacement[nodes]
     t = sol.traction[nodes]
     tn = np.einsum("pc,pc->p", t, n)
     # pointwise gap and slip against the other body's surface
-    od = system.cb[1 - i].body.discretization
-    el, inside, xo, phi = system.located(i)
+    od = other.discretization
+    el, inside, xo, phi = system.located(p, side)
     k = od.mesh.elements.shape[1]
     uo = np.einsum("pk,pkc->pc", phi, other_sol.displacement[od.fconn[el, :k]])
     rel = (xo + uo) - (X + u)
@@ -121,7 +140,7 @@ def _interface(system, i, sol, other_sol, frame_state) -> InterfaceResult:
     slip = du - np.einsum("pc,pc->p", du, n)[:, None] * n
     slip[~inside] = np.nan
     # state: that of the frame node most strongly coupled to the node
-    D = abs(fr.D[i]).tocsr()
+    D = abs(fr.D[side]).tocsr()
     strongest = np.asarray(D.argmax(axis=1)).ravel()
     coupled = np.asarray(D.sum(axis=1)).ravel() > 0
     # nodes off the other body's surface are open whatever their coupling

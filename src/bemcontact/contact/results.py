@@ -80,6 +80,44 @@ class FrameResult(NodalContactFields):
 
 
 @dataclass
+class PairResult:
+    """One contact pair's results.
+
+    names: the pair's body 1 and body 2.  surfaces: their contact regions.
+    normal_force: N, > 0 compressive: normal force body 1 exerts on body 2.
+    tangential_force: N, magnitude of the tangential force on body 2.
+    contact_force: (3,) global force body 1 exerts on body 2 (N).
+    interfaces: the two :class:`InterfaceResult` (body 1's, body 2's).
+    frame: :class:`FrameResult`.
+    """
+
+    names: tuple[str, str]
+    surfaces: tuple[str, str]
+    normal_force: float
+    tangential_force: float
+    contact_force: np.ndarray
+    interfaces: tuple[InterfaceResult, InterfaceResult]
+    frame: FrameResult
+
+    @property
+    def label(self) -> str:
+        """``body1:surface1/body2:surface2``, the pair's name in messages and files."""
+        return "/".join(f"{n}:{s}" for n, s in zip(self.names, self.surfaces))
+
+    def summary(self) -> dict:
+        """JSON-ready forces and state counts of the pair."""
+        return {
+            "bodies": list(self.names),
+            "surfaces": list(self.surfaces),
+            "normal_force": float(self.normal_force),
+            "tangential_force": float(self.tangential_force),
+            "contact_force": [float(c) for c in self.contact_force],
+            "states": {"frame": self.frame.counts(),
+                       **{i.body: i.counts() for i in self.interfaces}},
+        }
+
+
+@dataclass
 class StepRecord:
     """One load increment: its fraction ``load_factor`` of the way from the
     previous state to step ``step`` (1-based; ``label`` its name), Newton
@@ -115,10 +153,15 @@ class ContactResult:
     normal_force: N, > 0 compressive: normal force body 1 exerts on body 2.
     tangential_force: N, magnitude of the tangential (friction) force on body 2.
     contact_force: (3,) global force body 1 exerts on body 2 (N).
-    bodies: the two :class:`~bemcontact.bem.body.BodySolution` (whole surfaces).
-    names: the two body names.
+    bodies: the :class:`~bemcontact.bem.body.BodySolution` of every body
+        (whole surfaces), in the problem's order.
+    names: the body names.
     interfaces: the two :class:`InterfaceResult`.
     frame: :class:`FrameResult`.
+    pairs: one :class:`PairResult` per contact pair, in the problem's order.
+        The forces, ``interfaces`` and ``frame`` above are those of the
+        first pair: of the only one in a two-body problem; an assembly's
+        are in ``pairs``.
     timings: seconds per stage (assembly, condensation, frame, newton, total).
     control_displacements: body name -> region -> (3,) translation of each
         force-controlled region (NaN in components not force controlled).
@@ -137,10 +180,11 @@ class ContactResult:
     normal_force: float
     tangential_force: float
     contact_force: np.ndarray
-    bodies: tuple[BodySolution, BodySolution]
-    names: tuple[str, str]
+    bodies: tuple[BodySolution, ...]
+    names: tuple[str, ...]
     interfaces: tuple[InterfaceResult, InterfaceResult]
     frame: FrameResult
+    pairs: list[PairResult] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
     control_displacements: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
     label: str = ""
@@ -176,6 +220,7 @@ class ContactResult:
                 "frame": self.frame.counts(),
                 **{f"{i.body}": i.counts() for i in self.interfaces},
             },
+            **({"pairs": [p.summary() for p in self.pairs]} if len(self.pairs) > 1 else {}),
             "reactions": {
                 b: {r: [float(c) for c in f] for r, f in regs.items()}
                 for b, regs in self.reactions().items()
@@ -189,6 +234,7 @@ class ContactResult:
                     "contact_force": [float(c) for c in h.contact_force],
                     "control_displacements": _controls_json(h.control_displacements),
                     "states": h.frame.counts(),
+                    **({"pairs": [p.summary() for p in h.pairs]} if len(h.pairs) > 1 else {}),
                 }
                 for h in self.history
             ],
@@ -205,4 +251,4 @@ def _controls_json(controls: dict[str, dict[str, np.ndarray]]) -> dict:
     }
 
 
-__all__ = ["InterfaceResult", "FrameResult", "StepRecord", "ContactResult"]
+__all__ = ["InterfaceResult", "FrameResult", "PairResult", "StepRecord", "ContactResult"]

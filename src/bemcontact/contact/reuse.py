@@ -30,7 +30,7 @@ from ..errors import ConfigError
 from ..linalg.options import LinearSolverOptions
 from .condensation import CondensedBody, condense
 from .frame import ContactFrame
-from .interface import traction_modes
+from .frames import FrameSet
 from .pair import ContactPair
 
 #: Largest relative residual of a state's values in the span of the
@@ -42,17 +42,19 @@ FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(ContactPair)
                      if f.name != "friction_coefficient")
 
 
-def load_basis(body: ElasticBody, states: Sequence, contact_surface: str) -> np.ndarray:
+def load_basis(body: ElasticBody, states: Sequence, contact_surface) -> np.ndarray:
     """(3N, r) independent load fields whose span holds the boundary values
     of ``states`` and of any uniform displacement, traction or pressure on a
-    region other than ``contact_surface``: per region the unit x, y and z
+    region other than the ``contact_surface`` (a region name, or several):
+    per region the unit x, y and z
     fields and the outward normal, then each state's own values; columns
     kept in that order when independent (pivoted QR)."""
     d = body.discretization
     N = d.n_points
     cols = []
+    surfaces = {contact_surface} if isinstance(contact_surface, str) else set(contact_surface)
     for r, name in enumerate(body.mesh.region_names):
-        if name == contact_surface:
+        if name in surfaces:
             continue
         idx = np.flatnonzero(d.region == r)
         if idx.size == 0:
@@ -89,27 +91,33 @@ def _same_kinds(a, b) -> bool:
 
 @dataclasses.dataclass
 class Condensation:
-    """Both bodies condensed once on the frame's traction modes and on a
+    """The bodies condensed once on the frames' traction modes and on a
     basis of load fields (:func:`load_basis`), for re-solves with other
     friction, penalty, load values or histories and Newton options
     (:meth:`bemcontact.contact.ContactProblem.solve` with ``condensed=``).
 
-    Attributes: ``bodies`` the two bodies it was built from, ``pair`` their
-    contact pair, ``frame`` the contact frame, ``linear`` the linear solver
-    options of the condensation, ``condensed`` per body the
+    Attributes: ``bodies`` the bodies it was built from, ``pairs`` their
+    contact pairs, ``frames`` the contact frames
+    (:class:`~bemcontact.contact.frames.FrameSet`), ``linear`` the linear
+    solver options of the condensation, ``condensed`` per body the
     :class:`~bemcontact.contact.condensation.CondensedBody` whose load
     states are the basis fields, ``kinds`` per body (known displacement per
     dof, the dofs of each force control)."""
 
-    bodies: tuple[ElasticBody, ElasticBody]
-    pair: ContactPair
-    frame: ContactFrame
+    bodies: tuple[ElasticBody, ...]
+    pairs: tuple[ContactPair, ...]
+    frames: FrameSet
     linear: LinearSolverOptions
-    condensed: tuple[CondensedBody, CondensedBody]
+    condensed: tuple[CondensedBody, ...]
     kinds: tuple
 
-    def check(self, bodies, pair: ContactPair, linear: LinearSolverOptions) -> None:
-        """Refuse (ConfigError, one line) bodies, a pair or linear options
+    @property
+    def frame(self) -> ContactFrame:
+        """The first (in a two-body problem the only) pair's frame."""
+        return self.frames.frames[0]
+
+    def check(self, bodies, pairs, linear: LinearSolverOptions) -> None:
+        """Refuse (ConfigError, one line) bodies, pairs or linear options
         other than those condensed: a different mesh, material, quadrature
         or frame, or other linear solver options."""
         if linear != self.linear:
@@ -117,12 +125,18 @@ class Condensation:
                 "the condensed bodies were solved with other linear solver options "
                 "([solver.linear]); condense again to change them"
             )
-        for f in FRAME_FIELDS:
-            if getattr(pair, f) != getattr(self.pair, f):
-                raise ConfigError(
-                    f"contact.{f} is {getattr(pair, f)!r}, the condensed bodies have "
-                    f"{getattr(self.pair, f)!r}; condense again to change the frame"
-                )
+        pairs = (pairs,) if isinstance(pairs, ContactPair) else tuple(pairs)
+        if len(pairs) != len(self.pairs) or len(bodies) != len(self.bodies):
+            raise ConfigError(
+                f"the condensed problem has {len(self.bodies)} bodies and {len(self.pairs)} "
+                f"pair(s), this one {len(bodies)} and {len(pairs)}; condense again")
+        for pair, old in zip(pairs, self.pairs):
+            for f in FRAME_FIELDS:
+                if getattr(pair, f) != getattr(old, f):
+                    raise ConfigError(
+                        f"contact.{f} is {getattr(pair, f)!r}, the condensed bodies have "
+                        f"{getattr(old, f)!r}; condense again to change the frame"
+                    )
         for a, (b, o) in enumerate(zip(bodies, self.bodies)):
             if b is o:
                 continue
@@ -185,24 +199,26 @@ CondenseBody = Callable[..., CondensedBody]
 
 
 def condense_problem(
-    bodies, pair: ContactPair, frame: ContactFrame, states, threads: int | None,
+    bodies, pairs, links, frames: FrameSet, states, threads: int | None,
     linear: LinearSolverOptions, progress=None, condense_body: CondenseBody | None = None,
 ) -> Condensation:
-    """Condense both bodies on the frame's traction modes and on their
+    """Condense every body on the frames' traction modes and on its
     :func:`load_basis` of ``states`` (checked states, as
     :meth:`ContactProblem.states` gives) by ``condense_body`` (default
-    :func:`~bemcontact.contact.condense`; a cache may stand in for it)."""
+    :func:`~bemcontact.contact.condense`; a cache may stand in for it).
+    ``links[p]``: the body indices of ``pairs[p]``."""
     run = condense_body or condense
-    modes = traction_modes(frame)
-    surfaces = (pair.surface1, pair.surface2)
+    modes = frames.traction_modes()
     cbs, kinds = [], []
     for a, body in enumerate(bodies):
+        surfaces = [(p.surface1, p.surface2)[side]
+                    for p, link in zip(pairs, links) for side, b in enumerate(link) if b == a]
         body_states = [st[a] for st in states]
-        basis = load_basis(body, body_states, surfaces[a])
-        cbs.append(run(body, frame.nodes(a), threads, body_states[:1], progress, linear,
+        basis = load_basis(body, body_states, surfaces)
+        cbs.append(run(body, frames.nodes(a), threads, body_states[:1], progress, linear,
                        modes[a], load_fields=basis))
         kinds.append(_kinds(body, body_states[0]))
-    return Condensation(tuple(bodies), pair, frame, linear, tuple(cbs), tuple(kinds))
+    return Condensation(tuple(bodies), tuple(pairs), frames, linear, tuple(cbs), tuple(kinds))
 
 
 __all__ = ["Condensation", "condense_problem", "load_basis"]

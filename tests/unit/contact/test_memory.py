@@ -140,7 +140,7 @@ def test_a_frame_that_cannot_fit_is_refused_before_it_is_built(monkeypatch):
                        r"more than this machine's 0\.0 GB of available memory; use coarser or "
                        r"smaller contact surfaces$"):
         prob.solve()
-    assert prob._frame is None  # refused before the build
+    assert prob._frames is None  # refused before the build
 
 
 def test_loading_a_problem_file_refuses_a_frame_that_cannot_fit(tmp_path, monkeypatch):
