@@ -282,35 +282,38 @@ def _describe(problem) -> str:
     """What ``run`` would solve: per body its mesh, nodes, regions and
     conditions; the contact pair and frame; steps; memory of the dense path."""
     cp = problem.contact_problem()
-    frame = cp.frame
+    fs = cp.frames
     lines = [f"{problem.path}: valid" + (f" ({problem.title})" if problem.title else "")]
     compressed: list[str] = []
     for a, body in enumerate(problem.bodies):
         d = body.discretization
         mesh = body.mesh
         n = d.n_points
-        nc = frame.nodes(a).size
         mat = body.material
         lines.append(
             f"  body {body.name}: {mesh.n_elements} {mesh.element_type} elements, {n} functional "
             f"nodes ({3 * n} unknowns), E = {mat.youngs_modulus:g}, nu = {mat.poisson_ratio:g}"
         )
         counts = np.bincount(d.region, minlength=len(mesh.region_names))
+        contact = {}
+        for p, side in fs.pairs_of(a):
+            surface = (cp.pairs[p].surface1, cp.pairs[p].surface2)[side]
+            contact[surface] = fs.frames[p].nodes(side).size
         for r, name in enumerate(mesh.region_names):
             conds = body.boundary_conditions.get(name, ())
             what = "; ".join(_condition(c) for c in conds) if conds else "traction free"
-            if name == (problem.pair.surface1 if a == 0 else problem.pair.surface2):
-                what = f"contact surface ({nc} candidate nodes)"
+            if name in contact:
+                what = f"contact surface ({contact[name]} candidate nodes)"
             lines.append(f"    region {name}: {counts[r]} nodes, {what}")
         if problem.options.linear.use_hmatrix(n):
             compressed.append(body.name)
-    pair = problem.pair
-    lines.append(
-        f"  contact: {problem.bodies[0].name}.{pair.surface1} - {problem.bodies[1].name}."
-        f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame "
-        f"{frame.placement} (frame_on = {pair.frame_on}): "
-        f"{int(np.count_nonzero(frame.active))} active frame nodes"
-    )
+    for pair, (i, j), frame in zip(cp.pairs, cp.links, fs.frames):
+        lines.append(
+            f"  contact: {cp.bodies[i].name}.{pair.surface1} - {cp.bodies[j].name}."
+            f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame "
+            f"{frame.placement} (frame_on = {pair.frame_on}): "
+            f"{int(np.count_nonzero(frame.active))} active frame nodes"
+        )
     steps = problem.steps
     lines.append(
         f"  load: {len(steps)} step(s), {sum(s.increments for s in steps)} increment(s)"
@@ -446,19 +449,26 @@ def _report(problem, result, out: pathlib.Path, files) -> str:
     steps = len(result.history)
     increments = len(result.steps)
     # forces below what the Newton tolerance resolves are round-off, not results
-    floor = 10.0 * problem.options.tolerance * float(np.linalg.norm(result.contact_force))
+    floor = 10.0 * problem.options.tolerance * max(
+        float(np.linalg.norm(pr.contact_force)) for pr in result.pairs or [result])
     lines = [
         f"{problem.path}: converged in {result.newton_iterations} Newton iteration(s), "
         f"{steps} load step(s) in {increments} increment(s), "
         f"{result.timings.get('total', 0.0):.2f} s",
-        f"  normal force      {_force(result.normal_force, floor, unit)}",
-        f"  tangential force  {_force(result.tangential_force, floor, unit)}",
     ]
-    for iface in result.interfaces:
-        lines.append(
-            f"  {iface.body} ({iface.surface}, {iface.state.size} nodes): {_counts(iface.counts())}"
-        )
-    lines.append(f"  frame ({result.frame.state.size} nodes): {_counts(result.frame.counts())}")
+    several = len(result.pairs) > 1
+    for pr in result.pairs or [result]:
+        pad = "  " if several else ""
+        if several:
+            lines.append(f"  pair {pr.label}:")
+        lines += [
+            f"  {pad}normal force      {_force(pr.normal_force, floor, unit)}",
+            f"  {pad}tangential force  {_force(pr.tangential_force, floor, unit)}",
+        ]
+        for iface in pr.interfaces:
+            lines.append(f"  {pad}{iface.body} ({iface.surface}, {iface.state.size} nodes): "
+                         f"{_counts(iface.counts())}")
+        lines.append(f"  {pad}frame ({pr.frame.state.size} nodes): {_counts(pr.frame.counts())}")
     lines.append(f"results in {out}: " + ", ".join(f.name for f in files))
     return "\n".join(lines)
 
@@ -489,11 +499,14 @@ def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
     _error(str(exc))
     r = exc.result
     if r is not None:
-        for iface in r.interfaces:
-            print(terminal_text(f"  states at the last iterate, {iface.body}: "
-                                f"{_counts(iface.counts())}"),
-                  file=sys.stderr)
-        print(f"  states at the last iterate, frame: {_counts(r.frame.counts())}", file=sys.stderr)
+        for pr in r.pairs or [r]:
+            which = f" of {pr.label}" if len(r.pairs) > 1 else ""
+            for iface in pr.interfaces:
+                print(terminal_text(f"  states at the last iterate, {iface.body}{which}: "
+                                    f"{_counts(iface.counts())}"),
+                      file=sys.stderr)
+            print(terminal_text(f"  states at the last iterate, frame{which}: "
+                                f"{_counts(pr.frame.counts())}"), file=sys.stderr)
     data = r if r is not None else {"converged": False}
     try:
         path = write_summary(data, out, echo, error=str(exc))

@@ -53,6 +53,10 @@ class ContactPair:
         relative approach shows a tangential component of order a/R that
         friction resists (measured between two identical spheres: up to
         0.038 p0 of shear where symmetry gives none; 0.0086 p0 between).
+    penalty:
+        This pair's augmentation factor c of r = c E*/h (default: that of
+        the :class:`~bemcontact.contact.SolverOptions`).  It changes the
+        Newton path, not the converged solution.
     bodies:
         The names of the bodies of ``surface1`` and ``surface2``, in that
         order (the frame normal points from the first into the second).
@@ -94,6 +98,10 @@ class ContactPair:
         "displacement `projected` on the frame's linear basis (nodal values) or `weighted` "
         "over each node's support (mortar weighted gap)", default="projected",
         choices=RELATIVE_DISPLACEMENTS))
+    penalty: float | None = setting(Key(
+        "penalty", "number", "this pair's augmentation factor c (overrides "
+        "`solver.penalty`)", default=None, lo=1e-2, hi=1e2,
+        default_text="`solver.penalty`"))
     bodies: tuple[str, str] | None = None
 
     def __post_init__(self) -> None:

@@ -519,7 +519,8 @@ class ContactProblem:
         t2 = time.perf_counter()
         system = InterfaceSystem(
             fs, cb, [p.friction_coefficient for p in self.pairs],
-            [opt.penalty * self.contact_modulus(i) for i in range(len(self.pairs))])
+            [(opt.penalty if p.penalty is None else p.penalty) * self.contact_modulus(i)
+             for i, p in enumerate(self.pairs)])
         t3 = time.perf_counter()
         steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
         predictor = (Predictor(system, fs.points) if opt.predictor == "coarse" else None)

@@ -37,9 +37,9 @@ from .pair import ContactPair
 #: condensed load fields; above it the state is refused (re-condense).
 SPAN_TOLERANCE = 1e-12
 #: The contact pair's fields that shape the frame and the condensation (all
-#: but the friction coefficient).
+#: but the friction coefficient and the penalty).
 FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(ContactPair)
-                     if f.name != "friction_coefficient")
+                     if f.name not in ("friction_coefficient", "penalty"))
 
 
 def load_basis(body: ElasticBody, states: Sequence, contact_surface) -> np.ndarray:

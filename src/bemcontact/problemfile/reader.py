@@ -1,4 +1,5 @@
-"""Problem files: a TOML description of a two-body contact problem.
+"""Problem files: a TOML description of a contact problem (two bodies, or an
+assembly of several bodies and contact pairs).
 
 :func:`load_problem` reads and checks a problem file completely (meshes are
 built and read, materials and boundary conditions checked, the contact
@@ -12,14 +13,14 @@ numerics run, and returns a :class:`ProblemFile`.  The format is documented in
     [solver]                            # optional: SolverOptions fields
     tolerance = 1e-10
 
-    [[body]]                            # exactly two
+    [[body]]                            # two or more
     name = "lower"
     mesh = { box = { lower = [0, 0, 0], upper = [2, 2, 2], divisions = 6 } }
     material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }
     [body.boundary_conditions.zmin]
     displacement = [0, 0, 0]
 
-    [contact]
+    [contact]                           # or several [[contact]] sections
     bodies = ["lower", "upper"]
     surfaces = ["zmax", "zmin"]
     friction_coefficient = 0.1
@@ -64,6 +65,7 @@ from ..output.write import (
 )
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
+from .pairs import read_pairs
 from .sizes import check_body_size, check_generated_size
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
@@ -84,10 +86,13 @@ class ProblemFile:
     title: its ``title`` ('' if not given).
     units: its ``units`` labels (e.g. ``{"length": "mm"}``; not used in any
         computation: the numbers must already be in one consistent set).
-    bodies: the two :class:`~bemcontact.bem.body.ElasticBody`, in the order of
-        ``contact.bodies`` (body 1 first: the contact normal points from body 1
-        into body 2 and ``normal_force`` is the force body 1 exerts on body 2).
-    pair: the :class:`~bemcontact.contact.ContactPair`.
+    bodies: the :class:`~bemcontact.bem.body.ElasticBody` objects: with one
+        pair of two bodies in the order of ``contact.bodies`` (body 1 first:
+        the contact normal points from body 1 into body 2 and
+        ``normal_force`` is the force body 1 exerts on body 2), in an
+        assembly in the ``[[body]]`` order.
+    pairs: the :class:`~bemcontact.contact.ContactPair` of each ``[contact]``
+        (``pair``: the first).
     options: the :class:`~bemcontact.contact.SolverOptions`.
     steps: the :class:`~bemcontact.contact.LoadStep` history of the
         ``[[step]]`` sections (empty: one step to the bodies' conditions).
@@ -102,8 +107,8 @@ class ProblemFile:
     path: pathlib.Path
     title: str
     units: Mapping[str, str]
-    bodies: tuple[ElasticBody, ElasticBody]
-    pair: ContactPair
+    bodies: tuple[ElasticBody, ...]
+    pairs: tuple[ContactPair, ...]
     options: SolverOptions
     echo: dict[str, Any]
     steps: tuple[LoadStep, ...] = ()
@@ -114,9 +119,17 @@ class ProblemFile:
     origin: np.ndarray | None = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        contact = ContactProblem(*self.bodies, self.pair)
+        if len(self.bodies) == 2 and len(self.pairs) == 1:
+            contact = ContactProblem(*self.bodies, self.pairs[0])
+        else:
+            contact = ContactProblem(bodies=self.bodies, pairs=self.pairs)
         object.__setattr__(self, "origin", contact.origin)
         object.__setattr__(self, "_contact", contact)
+
+    @property
+    def pair(self) -> ContactPair:
+        """The first (in a two-body problem the only) contact pair."""
+        return self.pairs[0]
 
     def solve(self, *, threads: int | None = None, progress=None,
               raise_on_failure: bool = True) -> ContactResult:
@@ -239,49 +252,44 @@ class _Reader(Checker):
         if not isinstance(raw_bodies, list) or not all(isinstance(b, dict) for b in raw_bodies):
             self.fail("body", "must be an array of tables", raw_bodies,
                       "write each body as a [[body]] section")
-        if len(raw_bodies) != 2:
-            self.fail(
-                "body", f"exactly two [[body]] sections are needed, not {len(raw_bodies)}",
-                [b.get("name") for b in raw_bodies],
-            )
+        if len(raw_bodies) < 2:
+            self.fail("body", f"at least two [[body]] sections are needed, not {len(raw_bodies)}",
+                      [b.get("name") for b in raw_bodies])
         names = [self.body_name(i, b) for i, b in enumerate(raw_bodies)]
-        # file names compared as a case-insensitive filesystem (macOS, Windows) would
-        folded = [n.casefold() for n in names]
-        if folded[0] == folded[1]:
-            self.fail("body[1].name", f"duplicate body name (body[0] is {names[0]!r}; output "
-                      "file names differ only in case)" if names[0] != names[1] else
-                      "duplicate body name (body[0] has it too)", names[1],
-                      "give each body its own name")
-        for i in range(2):
-            if folded[i] == f"{folded[1 - i]}_interface":
-                self.fail(f"body[{i}].name", f"clashes with the output files of body "
-                          f"{names[1 - i]!r} ({names[i]}.vtu)", names[i], "choose another name")
+        self.distinct(names)
         meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
         for i, b in enumerate(raw_bodies):
             check_body_size(self, f"body[{i}].mesh", meshes[i], b["mesh"])
         materials = [
             self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
         ]
-        order, surfaces, pair, penalty = self.contact(content["contact"], names, meshes)
-        if penalty is not None:
-            options = dataclasses.replace(options, penalty=penalty)
+        specs = read_pairs(self, content["contact"], names, meshes)
         output = self.output(content.get("output", {}))
+        # each body's contact surfaces, with the field naming each
+        surfaces: list[dict[str, str]] = [{} for _ in names]
+        for sp in specs:
+            for side, i in enumerate(sp.order):
+                s_ = (sp.pair.surface1, sp.pair.surface2)[side]
+                surfaces[i].setdefault(s_, sp.surface_where(side))
         bodies = []
         for i, b in enumerate(raw_bodies):
-            contact_surface = surfaces[order.index(i)]
             bcs = self.boundary_conditions(
                 f"body[{i}].boundary_conditions", b.get("boundary_conditions", {}), meshes[i],
-                contact_surface, f"contact.surfaces[{order.index(i)}]",
+                surfaces[i],
             )
             where = f"body[{i}].mesh"
             try:
                 bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
             except BemcontactError as exc:  # the closed/oriented surface check
                 self.wrap(where, exc, b["mesh"])
-        ordered = (bodies[order[0]], bodies[order[1]])
+        if len(specs) == 1 and len(bodies) == 2:  # body 1 of the pair first
+            ordered = tuple(bodies[i] for i in specs[0].order)
+        else:
+            ordered = tuple(bodies)
         echo = {"file": str(path), **copy.deepcopy(content)}
-        steps = self.steps(content.get("step", []), names, meshes, surfaces, order)
-        problem = ProblemFile(path, top["title"], units, ordered, pair, options, echo, steps, output)
+        steps = self.steps(content.get("step", []), names, meshes, surfaces)
+        problem = ProblemFile(path, top["title"], units, ordered, tuple(sp.pair for sp in specs),
+                              options, echo, steps, output)
         if steps:
             try:
                 problem.contact_problem().states(steps)
@@ -296,14 +304,18 @@ class _Reader(Checker):
             except ConfigError as exc:
                 raise ConfigError(f"{path}: {exc}") from None
             try:
-                problem.contact_problem().frame
+                problem.contact_problem().frames
             except ConfigError as exc:
-                self.wrap("contact.surfaces", exc, list(surfaces))
+                text = one_line(str(exc))
+                m = re.match(r"^pairs\[(\d+)\] \([^)]*\): (.*)$", text)
+                sp = specs[int(m.group(1))] if m else specs[0]
+                self.wrap(f"{sp.where}.surfaces", ConfigError(m.group(2)) if m else exc,
+                          [sp.pair.surface1, sp.pair.surface2])
         if self.figures_skipped:  # stacklevel: the caller of load_problem
             warnings.warn(FIGURES_SKIPPED, OptionalDependencyWarning, stacklevel=3)
         return problem
 
-    def steps(self, value, names, meshes, surfaces, order) -> tuple[LoadStep, ...]:
+    def steps(self, value, names, meshes, surfaces) -> tuple[LoadStep, ...]:
         if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
             self.fail("step", "must be an array of tables", value,
                       "write each load step as a [[step]] section")
@@ -323,9 +335,7 @@ class _Reader(Checker):
                               f"{', '.join(names)})", name, suggest(name, names))
                 i = names.index(name)
                 changes[name] = self.boundary_conditions(
-                    f"{bwhere}.{name}", regions, meshes[i], surfaces[order.index(i)],
-                    f"contact.surfaces[{order.index(i)}]",
-                )
+                    f"{bwhere}.{name}", regions, meshes[i], surfaces[i])
             out.append(LoadStep(changes, f["increments"], f["label"]))
         return tuple(out)
 
@@ -484,8 +494,10 @@ class _Reader(Checker):
             self.wrap(where, exc, value)
 
     def boundary_conditions(
-        self, where: str, value: Any, mesh: SurfaceMesh, contact_surface: str, contact_where: str
+        self, where: str, value: Any, mesh: SurfaceMesh, contact: Mapping[str, str]
     ) -> dict[str, list]:
+        """The conditions of one body; ``contact``: its contact surfaces,
+        each with the field that names it."""
         if not isinstance(value, dict):
             self.fail(where, f"must be a table of regions, not {a_type(value)}", value)
         out: dict[str, list] = {}
@@ -497,9 +509,9 @@ class _Reader(Checker):
                     f"{', '.join(mesh.region_names)})", region,
                     suggest(region, mesh.region_names),
                 )
-            if region == contact_surface:
+            if region in contact:
                 self.fail(
-                    rwhere, f"region {region!r} is this body's contact surface ({contact_where}), "
+                    rwhere, f"region {region!r} is this body's contact surface ({contact[region]}), "
                     "where the contact decides the tractions", spec, "remove this table",
                 )
             out[region] = self.condition(rwhere, spec)
@@ -538,45 +550,22 @@ class _Reader(Checker):
             items.append(kinds[key](v))
         return items
 
-    def contact(
-        self, value: Any, names: list[str], meshes: list[SurfaceMesh]
-    ) -> tuple[tuple[int, int], tuple[str, str], ContactPair, float | None]:
-        key = schema.CONTACT
-        t = self.table("contact", value, key)
-        bodies = self.value("contact.bodies", t.get("bodies", list(names)), key.key("bodies"))
-        order = []
-        for k, b in enumerate(bodies):
-            if b not in names:
-                self.fail(
-                    f"contact.bodies[{k}]", f"no body of that name (bodies: {', '.join(names)})",
-                    b, suggest(b, names),
-                )
-            order.append(names.index(b))
-        if order[0] == order[1]:
-            self.fail("contact.bodies", "the two contact bodies must differ", bodies)
-        surfaces = self.value("contact.surfaces", t["surfaces"], key.key("surfaces"))
-        for k, s in enumerate(surfaces):
-            regions = meshes[order[k]].region_names
-            if s not in regions:
-                self.fail(
-                    f"contact.surfaces[{k}]", f"body {bodies[k]!r} has no region {s!r} (its "
-                    f"regions: {', '.join(regions)})", s, suggest(s, regions),
-                )
-        f = self.fields("contact", t, key)
-        on = f["frame_on"]
-        if on not in ("auto", "between", "coarser", *bodies):
-            choices = ("auto", "between", "coarser", *bodies)
-            self.fail("contact.frame_on", f"must be one of {', '.join(choices)}", on,
-                      suggest(on, choices))
-        frame_on = on if on in ("auto", "between", "coarser") else f"body{bodies.index(on) + 1}"
-        try:
-            pair = ContactPair(surfaces[0], surfaces[1],
-                               friction_coefficient=f["friction_coefficient"], frame=f["frame"],
-                               search_distance=f.get("search_distance"), frame_on=frame_on,
-                               relative_displacement=f["relative_displacement"])
-        except BemcontactError as exc:  # pragma: no cover - checked above
-            self.wrap("contact", exc, value)
-        return (order[0], order[1]), (surfaces[0], surfaces[1]), pair, f.get("penalty")
+    def distinct(self, names: list[str]) -> None:
+        """Body names unique (compared as a case-insensitive file system
+        would: they name output files) and not another body's output file."""
+        folded = [n.casefold() for n in names]
+        for i, f in enumerate(folded):
+            for j in range(i):
+                if f == folded[j]:
+                    self.fail(f"body[{i}].name", f"duplicate body name (body[{j}] is "
+                              f"{names[j]!r}; output file names differ only in case)"
+                              if names[i] != names[j] else
+                              f"duplicate body name (body[{j}] has it too)", names[i],
+                              "give each body its own name")
+            for j, g in enumerate(folded):
+                if j != i and f == f"{g}_interface":
+                    self.fail(f"body[{i}].name", f"clashes with the output files of body "
+                              f"{names[j]!r} ({names[i]}.vtu)", names[i], "choose another name")
 
 
 #: The former name of :class:`ProblemFile`, kept for existing scripts.

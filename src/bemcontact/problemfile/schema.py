@@ -175,8 +175,8 @@ BOUNDARY_CONDITIONS = Key(
 )
 
 BODY = Key(
-    "body", "tables", "the two bodies, as two `[[body]]` sections", True, section="body",
-    length=2,
+    "body", "tables", "the bodies, as two or more `[[body]]` sections (an assembly: every "
+    "body in a contact pair)", True, section="body",
     keys=(
         Key("name", "string", "a letter, then letters, digits, `_`, `-`; unique; not `frame` or "
             "`summary` (it names the output files)", True),
@@ -187,11 +187,13 @@ BODY = Key(
 )
 
 CONTACT = Key(
-    "contact", "table", "the contact pair", True, section="contact",
+    "contact", "table", "the contact pair: one `[contact]` table, or one `[[contact]]` table "
+    "per pair (an assembly: a body may be in several pairs, on different surfaces or on one "
+    "surface against several bodies)", True, section="contact",
     keys=(
         Key("bodies", "strings", "body 1 and body 2: the contact normal points from body 1 into "
-            "body 2 and `normal_force` is the force body 1 exerts on body 2", length=2,
-            default_text="the `[[body]]` order"),
+            "body 2 and `normal_force` is the force body 1 exerts on body 2; needed with more "
+            "than two bodies", length=2, default_text="the `[[body]]` order"),
         Key("surfaces", "strings", "the contact surface (a region) of body 1, then of body 2",
             True, length=2),
         *keys_of(ContactPair, "friction_coefficient", "frame", "search_distance",
@@ -200,9 +202,7 @@ CONTACT = Key(
             "`auto` (on the flat surface if exactly one is flat, between two curved ones, on "
             "the coarser of two flat ones), `between` the two surfaces (midway, normals "
             "bisecting theirs), `coarser` or a body name (on that surface)", default="auto"),
-        *keys_of(SolverOptions, "penalty", penalty=dict(
-            doc="this pair's augmentation factor c (overrides `solver.penalty`)",
-            default=NO_DEFAULT, default_text="`solver.penalty`")),
+        *keys_of(ContactPair, "penalty"),
     ),
 )
 

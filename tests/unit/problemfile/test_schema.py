@@ -99,7 +99,7 @@ def test_output_table_and_penalty_override(tmp_path):
     text = BASE + '\npenalty = 3.5\n\n[output]\nsteps = "last"\nfigures = false\n'
     p = load_problem(write(tmp_path, text), check_overlap=False)
     assert p.output == OutputOptions(steps="last", figures=False)
-    assert p.options.penalty == 3.5
+    assert p.pair.penalty == 3.5 and p.options.penalty == 1.0  # the pair's, not the solver's
     assert load_problem(write(tmp_path, BASE), check_overlap=False).output == OutputOptions()
 
 
