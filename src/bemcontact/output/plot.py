@@ -5,7 +5,8 @@ no pyplot state is touched).
 A result is given either as a :class:`~bemcontact.contact.results.ContactResult` or
 as a directory written by :func:`bemcontact.output.write.write_results` (the CLI's
 ``--out``), from whose ``<body>_interface.csv`` files the same figure is
-rebuilt.
+rebuilt (an assembly's: its first pair's, or a pair's
+:class:`~bemcontact.contact.results.PairResult`).
 """
 
 from __future__ import annotations
@@ -19,10 +20,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..contact.results import ContactResult, FrameResult
+from ..contact.results import ContactResult, FrameResult, PairResult
 from ..errors import ConfigError
 
-Source = ContactResult | str | os.PathLike
+Source = ContactResult | PairResult | str | os.PathLike
 
 
 @dataclass(frozen=True)
@@ -44,12 +45,14 @@ class InterfaceLine:
 
 
 def _interface_points(source: Source) -> list[tuple[str, np.ndarray, np.ndarray]]:
-    """(body name, points (n, 3), displacement (n, 3)) of both interfaces."""
-    if isinstance(source, ContactResult):
+    """(body name, points (n, 3), displacement (n, 3)) of both interfaces
+    (of an assembly: of its first pair, as ``ContactResult.interfaces``)."""
+    if isinstance(source, (ContactResult, PairResult)):
         return [(i.body, i.points, i.displacement) for i in source.interfaces]
     if not isinstance(source, (str, os.PathLike)):
         raise ConfigError(
-            f"expected a ContactResult or a results directory, got {type(source).__name__}"
+            "expected a ContactResult, PairResult or a results directory, got "
+            f"{type(source).__name__}"
         )
     from .read import read_csv
 
@@ -57,16 +60,21 @@ def _interface_points(source: Source) -> list[tuple[str, np.ndarray, np.ndarray]
     if not d.is_dir():
         raise ConfigError(f"{os.fspath(source)}: not a results directory")
     names: list[str] = []
+    prefix = ""
     summary = d / "summary.json"
     if summary.is_file():
-        names = list(json.loads(summary.read_text()).get("names", []))
+        s = json.loads(summary.read_text())
+        names = list(s.get("names", []))
+        pairs = s.get("pairs") or []
+        if pairs and isinstance(pairs[0], Mapping) and "files" in pairs[0]:  # an assembly
+            names, prefix = list(pairs[0]["bodies"]), f"{pairs[0]['files']}_"
     if not names:
         names = sorted(p.name[: -len("_interface.csv")] for p in d.glob("*_interface.csv"))
     if not names:
         raise ConfigError(f"{os.fspath(source)}: no <body>_interface.csv files")
     out = []
     for n in names:
-        f = d / f"{n}_interface.csv"
+        f = d / f"{prefix}{n}_interface.csv"
         if not f.is_file():
             raise ConfigError(f"{f}: missing (the directory's summary.json names body {n!r})")
         c = read_csv(f)
@@ -246,7 +254,7 @@ AXISYMMETRIC_SCATTER = 0.15
 
 
 def plot_radial_profile(
-    source: ContactResult | FrameResult,
+    source: ContactResult | PairResult | FrameResult,
     path: str | os.PathLike,
     *,
     pressure=None,
@@ -277,10 +285,11 @@ def plot_radial_profile(
 
     from ..contact.law import SLIP, STICK
 
-    frame = source.frame if isinstance(source, ContactResult) else source
+    frame = source.frame if isinstance(source, (ContactResult, PairResult)) else source
     if not isinstance(frame, FrameResult):
         raise ConfigError(
-            f"plot_radial_profile: expected a ContactResult or FrameResult, got {type(source).__name__}"
+            "plot_radial_profile: expected a ContactResult or FrameResult, got "
+            f"{type(source).__name__} (a PairResult is accepted too)"
         )
     if component not in (0, 1, None):
         raise ConfigError(f"component must be 0 or 1 (x, y) or None (|q|), got {component!r}")
@@ -423,7 +432,7 @@ STICK_EDGE = {"colors": "#ff3030", "linewidths": 1.4, "linestyles": "dashed"}
 
 
 def frame_tractions_figure(
-    source: ContactResult | FrameResult,
+    source: ContactResult | PairResult | FrameResult,
     *,
     cells=None,
     length_unit: str = "",
@@ -438,13 +447,13 @@ def frame_tractions_figure(
 
     from ..contact.law import SLIP, STICK
 
-    if isinstance(source, ContactResult):
+    if isinstance(source, (ContactResult, PairResult)):
         fr = source.frame
     elif isinstance(source, FrameResult):
         fr = source
     else:
         raise ConfigError(
-            "plot_frame_tractions: expected a ContactResult or FrameResult, got "
+            "plot_frame_tractions: expected a ContactResult, PairResult or FrameResult, got "
             f"{type(source).__name__}"
         )
     xy, lx, ly = _plane_coordinates(fr.points, fr.normals)
@@ -499,18 +508,19 @@ def frame_tractions_figure(
     fig.legend(handles=handles, loc="outside lower center", ncols=len(panels),
                facecolor="0.55", framealpha=1.0, labelcolor="white", fontsize="small",
                handlelength=2.5)
-    if isinstance(source, ContactResult):
+    if isinstance(source, (ContactResult, PairResult)):
         fu = f" {force_unit}" if force_unit else ""
         # below 1e-6 of the contact force: round-off of the solve, not a result
         small = source.tangential_force <= 1e-6 * float(np.linalg.norm(source.contact_force))
         tangential = "0" if small else f"{source.tangential_force:.4g}{fu}"
-        fig.suptitle(f"contact frame: normal force {source.normal_force:.4g}{fu}, "
+        which = f" {source.label}" if isinstance(source, PairResult) else ""
+        fig.suptitle(f"contact frame{which}: normal force {source.normal_force:.4g}{fu}, "
                      f"tangential force {tangential}")
     return fig
 
 
 def plot_frame_tractions(
-    source: ContactResult | FrameResult,
+    source: ContactResult | PairResult | FrameResult,
     path: str | os.PathLike,
     *,
     cells=None,
@@ -531,7 +541,9 @@ def plot_frame_tractions(
     into two triangles.  Without friction (|q| below 1e-6 of the peak
     pressure) the |q| map is left out.  ``cells``: the frame's elements as
     meshio-style ``[(kind, conn)]`` (``write_results`` passes them),
-    otherwise a Delaunay triangulation of the nodes is drawn.
+    otherwise a Delaunay triangulation of the nodes is drawn.  A result
+    or a pair (:class:`~bemcontact.contact.results.PairResult`, one of an
+    assembly's) adds its forces to the title, a pair its label too.
     Writes a PNG to ``path`` and returns it."""
     return save_png(frame_tractions_figure(
         source, cells=cells, length_unit=length_unit, stress_unit=stress_unit,

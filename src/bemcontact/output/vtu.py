@@ -24,6 +24,7 @@ import numpy as np
 
 from ..contact.results import ContactResult
 from ..mesh.element import CORNERS, REFERENCE_NODES
+from .layout import Layout, result_layout
 
 _MESHIO_CELL = {"tri3": "triangle", "tri6": "triangle6", "quad4": "quad", "quad8": "quad8",
                 "quad9": "quad9"}  # fmt: skip
@@ -168,12 +169,21 @@ def _interface_fields(iface) -> dict[str, np.ndarray]:
     }
 
 
-def _frame_cells(result: ContactResult):
-    """The frame's elements: the frame lies on the corner nodes of one body's
-    contact elements (frame.py); find that body and rebuild the linear cells,
-    else None.  The match is checked against the frame's points."""
-    pts = result.frame.points
-    for sol, iface in zip(result.bodies, result.interfaces):
+def _solutions(result: ContactResult, interfaces) -> list:
+    """The body solutions of ``interfaces``' bodies (by name)."""
+    return [result.bodies[list(result.names).index(i.body)] for i in interfaces]
+
+
+def _frame_cells(result: ContactResult, pair=None):
+    """The elements of the frame of ``pair`` (a
+    :class:`~bemcontact.contact.results.PairResult` of ``result``; default
+    the result's first pair): the frame lies on the corner nodes of one
+    body's contact elements (frame.py); find that body and rebuild the
+    linear cells, else None.  The match is checked against the frame's
+    points."""
+    src = result if pair is None else pair
+    pts = src.frame.points
+    for sol, iface in zip(_solutions(result, src.interfaces), src.interfaces):
         mesh = sol.discretization.mesh
         nc = CORNERS[mesh.element_type]
         corners = mesh.elements[mesh.region(iface.surface), :nc]
@@ -186,9 +196,8 @@ def _frame_cells(result: ContactResult):
     return None
 
 
-def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
-    fr = result.frame
-    cells = _frame_cells(result) or _vertices(fr.points.shape[0])
+def _write_frame_vtu(path: pathlib.Path, fr, cells) -> None:
+    cells = cells or _vertices(fr.points.shape[0])
     _write_vtu(
         path, fr.points, cells,
         {
@@ -199,12 +208,24 @@ def _write_frame_vtu(path: pathlib.Path, result: ContactResult) -> None:
     )
 
 
-def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str) -> None:
-    for sol, n in zip(result.bodies, result.names):
+def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str,
+                     files: Layout | None = None) -> None:
+    """The VTU files of one state, ``<stem><suffix>.vtu``, stems from
+    ``files`` (default: :func:`~bemcontact.output.layout.result_layout`)."""
+    files = result_layout(result) if files is None else files
+    for sol, n in zip(result.bodies, files.bodies):
         _write_body_vtu(directory / f"{n}{suffix}.vtu", sol)
-    for sol, iface in zip(result.bodies, result.interfaces):
-        _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
-    _write_frame_vtu(directory / f"frame{suffix}.vtu", result)
+    if not files.assembly:
+        for sol, iface in zip(_solutions(result, result.interfaces), result.interfaces):
+            _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
+        _write_frame_vtu(directory / f"frame{suffix}.vtu", result.frame, _frame_cells(result))
+        return
+    for pair, names in zip(result.pairs, files.pairs):
+        for sol, iface, stem in zip(_solutions(result, pair.interfaces), pair.interfaces,
+                                    names.interfaces):
+            _write_interface_vtu(directory / f"{stem}{suffix}.vtu", sol, iface)
+        _write_frame_vtu(directory / f"{names.frame}{suffix}.vtu", pair.frame,
+                         _frame_cells(result, pair))
 
 
 def write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:

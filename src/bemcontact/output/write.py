@@ -5,7 +5,7 @@ name; columns and units in ``docs/problem-file.md``; which of them are written
 is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
 
 * ``summary.json``: :meth:`ContactResult.summary` plus ``version``, ``names``
-  (body 1, body 2) and ``problem`` (the problem file's echo, if given).
+  (body 1, body 2; every body of an assembly) and ``problem`` (the problem file's echo, if given).
 * ``<body>.vtu``: the body's whole surface.
 * ``<body>_interface.vtu``, ``<body>_interface.csv``: its contact surface.
 * ``frame.vtu``, ``frame.csv``: the contact frame nodes.
@@ -18,6 +18,12 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
   matplotlib, ``pip install "bemcontact[plot]"``; figures on by default are
   skipped without it, with an
   :class:`~bemcontact.errors.OptionalDependencyWarning`).
+
+An assembly (several contact pairs) writes every ``<body>.vtu`` and, per
+pair, its frame, interfaces and figures under the pair's names
+(``<b1>+<b2>_frame.vtu``, ``<b1>+<b2>_<body>_interface.csv``,
+``<b1>+<b2>_frame_tractions.png``, ...: :mod:`bemcontact.output.layout`);
+``summary.json`` lists the pairs' forces and states in ``pairs``.
 
 VTU files: the bodies' surfaces at their true geometry (mesh nodes and
 elements, region names as field data; also ``regions`` in ``summary.json``),
@@ -37,7 +43,6 @@ import json
 import math
 import os
 import pathlib
-import re
 import secrets
 import warnings
 from collections.abc import Mapping
@@ -49,6 +54,7 @@ import numpy as np
 from ..contact.results import ContactResult
 from ..errors import ConfigError, OptionalDependencyWarning
 from ..settings import Key, check_settings, setting
+from .layout import Layout, check_files, pair_stems, result_layout
 from .rundir import RunDirectory
 from .vtu import _frame_cells, write_pvd, write_state_vtus
 
@@ -62,7 +68,6 @@ FRAME_COLUMNS = (
     "x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y", "slip_z", "state",
     "nx", "ny", "nz", "weight",
 )  # fmt: skip
-_SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 
 
 # --------------------------------------------------------------------------- public
@@ -105,7 +110,9 @@ def summary(
     """The content of ``summary.json``: ``result.summary()`` (or a given dict)
     with ``version``, ``names``, ``regions`` (body -> its region names, in the
     order of the VTU files' ``region`` index), ``problem`` and ``error`` added, non-finite
-    numbers turned into ``null`` (strict JSON)."""
+    numbers turned into ``null`` (strict JSON).  An assembly's ``pairs``
+    entries get the pair's ``label`` and ``files``, the stem of its files
+    (:mod:`bemcontact.output.layout`)."""
     from .._version import __version__
 
     if isinstance(result, ContactResult):
@@ -113,6 +120,10 @@ def summary(
             n: list(sol.discretization.mesh.region_names)
             for n, sol in zip(result.names, result.bodies)
         }}
+        if "pairs" in s:  # an assembly: each pair's label and the stem of its files
+            stems = pair_stems([(p.names, p.surfaces) for p in result.pairs])
+            s["pairs"] = [{"label": p.label, "files": stem, **e}
+                          for p, stem, e in zip(result.pairs, stems, s["pairs"])]
     elif isinstance(result, Mapping):
         s = dict(result)
     else:
@@ -227,7 +238,8 @@ def write_results(
     is installed (else an :class:`~bemcontact.errors.OptionalDependencyWarning`
     says they were skipped).
 
-    Raises :class:`ConfigError` if a body name cannot name a file,
+    Raises :class:`ConfigError` if a body name cannot name a file (or the
+    file names clash or are too long: :mod:`~bemcontact.output.layout`),
     ``options`` asks for figures without matplotlib or ``out_dir`` may not
     be written (``force``: see :class:`RunDirectory`), ``OSError`` if the
     files cannot be written.
@@ -239,67 +251,75 @@ def write_results(
         raise ConfigError(f"write_results: options must be OutputOptions, got {opt!r}")
     if opt.figures:
         require_matplotlib("write_results: figures")
-    names = list(result.names)
-    for n in names:
-        if not isinstance(n, str) or not _SAFE_NAME.match(n):
-            raise ConfigError(
-                f"write_results: body name {n!r} cannot name a file; use letters, digits, "
-                "'_', '-' and '.'"
-            )
-    series = [*names, *(f"{n}_interface" for n in names), "frame"]
+    names = result_layout(result)
+    series = names.series()
     files = ["summary.json"]
     if opt.vtu:
         files += [f"{n}.vtu" for n in series]
         if opt.steps == "all":
             files += [f"{n}.pvd" for n in series]
     if opt.csv:
-        files += [f"{n}_interface.csv" for n in names] + ["frame.csv"]
+        files += [f"{n}.csv" for n in names.csv()]
     if opt.figures:
-        files.append("frame_tractions.png")
-    if len(set(files)) != len(files):
-        raise ConfigError(
-            f"write_results: the body names {names} give clashing file names; rename the bodies"
-        )
+        files += [f"{p.figure}frame_tractions.png" for p in names.pairs]
     history = list(result.history) or [result]
+    check_files(files, len(history) if opt.vtu and opt.steps == "all" else 0)
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
         _write_json(tmp / "summary.json", summary(result, problem_echo))
         if opt.vtu:
-            write_state_vtus(tmp, result, "")
+            write_state_vtus(tmp, result, "", names)
             if opt.steps == "all":
                 (tmp / "steps").mkdir()
                 width = max(3, len(str(len(history))))
                 for k, state in enumerate(history, start=1):
-                    write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}")
+                    write_state_vtus(tmp / "steps", state, f"_{k:0{width}d}", names)
                 for n in series:
                     write_pvd(tmp / f"{n}.pvd", [
                         (k, f"steps/{n}_{k:0{width}d}.vtu") for k in range(1, len(history) + 1)
                     ])  # fmt: skip
         if opt.csv:
-            for iface in result.interfaces:
-                _write_interface_csv(tmp / f"{iface.body}_interface.csv", iface)
-            _write_frame_csv(tmp / "frame.csv", result.frame)
-        if opt.figures and _write_figures(tmp, result, (problem_echo or {}).get("units")):
-            files.append("frame_profile.png")
+            for pair, stems in _pairs(result, names):
+                for iface, stem in zip(pair.interfaces, stems.interfaces):
+                    _write_interface_csv(tmp / f"{stem}.csv", iface)
+                _write_frame_csv(tmp / f"{stems.frame}.csv", pair.frame)
+        if opt.figures:
+            units = (problem_echo or {}).get("units")
+            for pair, stems in _pairs(result, names):
+                if _write_figures(tmp, result, units, pair if names.assembly else None,
+                                  stems.figure):
+                    at = files.index(f"{stems.figure}frame_tractions.png") + 1
+                    files.insert(at, f"{stems.figure}frame_profile.png")
     out = pathlib.Path(rundir.given)
     return [out / f for f in files]
 
 
-def _write_figures(directory: pathlib.Path, result: ContactResult, units) -> bool:
-    """``frame_tractions.png``, and ``frame_profile.png`` if the contact is
-    axisymmetric (:func:`~bemcontact.output.plot.axisymmetry`); units are the
-    problem file's labels.  Returns whether the profile was drawn."""
+def _pairs(result: ContactResult, names: Layout):
+    """(pair, its :class:`PairFiles`) for each pair written: the result
+    itself (its first pair's fields) for two bodies."""
+    if not names.assembly:
+        return [(result, names.pairs[0])]
+    return list(zip(result.pairs, names.pairs))
+
+
+def _write_figures(directory: pathlib.Path, result: ContactResult, units, pair=None,
+                   prefix: str = "") -> bool:
+    """``<prefix>frame_tractions.png``, and ``<prefix>frame_profile.png`` if
+    the contact is axisymmetric (:func:`~bemcontact.output.plot.axisymmetry`),
+    of ``pair`` (a PairResult; default the result's first pair); units are
+    the problem file's labels.  Returns whether the profile was drawn."""
     from .plot import AXISYMMETRIC_SCATTER, axisymmetry, plot_frame_tractions, plot_radial_profile
 
     u = {k: str(v) for k, v in (units or {}).items()} if isinstance(units, Mapping) else {}
     kw = {"length_unit": u.get("length", ""), "stress_unit": u.get("stress", "")}
-    plot_frame_tractions(result, directory / "frame_tractions.png", cells=_frame_cells(result),
-                         force_unit=u.get("force", ""), **kw)
-    axi = axisymmetry(result.frame)
+    source = result if pair is None else pair
+    plot_frame_tractions(source, directory / f"{prefix}frame_tractions.png",
+                         cells=_frame_cells(result, pair), force_unit=u.get("force", ""), **kw)
+    axi = axisymmetry(source.frame)
     if axi is None or axi[1] > AXISYMMETRIC_SCATTER:
         return False
-    plot_radial_profile(result, directory / "frame_profile.png", component=None, center=axi[0],
-                        title="radial profile (r from the contact's centre)",
+    plot_radial_profile(source.frame, directory / f"{prefix}frame_profile.png", component=None,
+                        center=axi[0], title="radial profile (r from the contact's centre)",
                         **kw)
     return True
 
