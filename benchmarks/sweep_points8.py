@@ -1,7 +1,9 @@
 """A sweep against separate runs (issue 27): wall time of ``bemcontact sweep``
 over 8 points against 8 ``bemcontact run`` of the same points, one after the
-other, and the largest difference of the key outputs (which must be below
-1e-10 relative).
+other, the largest difference of the key outputs (which must be below
+1e-10 relative), and whether every point's directory holds the files of its
+separate run (the same work per point: VTU, CSV, summary and the
+frame_tractions.png figure).
 
 Cases:
   friction  examples/two_cubes_dissimilar.toml, contact.friction_coefficient
@@ -13,7 +15,7 @@ Cases:
     python benchmarks/sweep_points8.py [--case friction|load|both] [--workers N]
 
 prints a Markdown table (case | points | separate runs s | sweep s | speed-up |
-largest relative difference) under the machine line.  Time it on a quiet
+largest relative difference | same files) under the machine line.  Time it on a quiet
 machine only: the sweep uses every core.  ``--problem FILE --key KEY
 --values V1,V2,...`` runs another study (the smoke test uses a tiny one).
 """
@@ -61,23 +63,29 @@ def _point_files(problem: pathlib.Path, key: str, values, directory: pathlib.Pat
     return files
 
 
+def _files(directory: pathlib.Path) -> set[str]:
+    return {str(f.relative_to(directory)) for f in directory.rglob("*") if f.is_file()}
+
+
 def separate(problem: pathlib.Path, key: str, values, tmp: pathlib.Path) -> tuple[float, list]:
     """8 ``bemcontact run`` of the points, one after the other: seconds and
-    each summary.json (the point files are made first, not timed)."""
+    each summary.json with the run's file names (the point files are made
+    first, not timed)."""
     files = _point_files(problem, key, values, tmp)
     t0 = time.perf_counter()
     for k, f in enumerate(files):
         subprocess.run([str(BIN), "run", str(f), "--out", str(tmp / f"run_{k}"), "--quiet"],
                        check=True, cwd=ROOT)
     seconds = time.perf_counter() - t0
-    return seconds, [json.loads((tmp / f"run_{k}" / "summary.json").read_text())
-                     for k in range(len(files))]
+    return seconds, [{**json.loads((tmp / f"run_{k}" / "summary.json").read_text()),
+                      "files": _files(tmp / f"run_{k}")} for k in range(len(files))]
 
 
 def sweep(problem: pathlib.Path, key: str, values, tmp: pathlib.Path,
           workers: int | None) -> tuple[float, list[dict]]:
     """One ``bemcontact sweep`` of the points (a fresh local cluster, cache
-    empty): seconds and the table's rows."""
+    empty): seconds and the table's rows, each with its directory's file
+    names."""
     out = tmp / "sweep"
     argv = [str(BIN), "sweep", str(problem), "--vary", f"{key}={','.join(map(str, values))}",
             "--out", str(out), "--quiet"]
@@ -87,7 +95,10 @@ def sweep(problem: pathlib.Path, key: str, values, tmp: pathlib.Path,
     subprocess.run(argv, check=True, cwd=ROOT)
     seconds = time.perf_counter() - t0
     with open(out / "table.csv", newline="") as f:
-        return seconds, list(csv.DictReader(f))
+        rows = list(csv.DictReader(f))
+    for r in rows:
+        r["files"] = _files(out / r["directory"])
+    return seconds, rows
 
 
 def one(problem, key: str, values, workers: int | None = None) -> dict:
@@ -100,6 +111,7 @@ def one(problem, key: str, values, workers: int | None = None) -> dict:
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     diff = 0.0
+    same = all(run["files"] == row["files"] for run, row in zip(runs, rows, strict=True))
     for run, row in zip(runs, rows, strict=True):
         scale = abs(run["normal_force"])
         for k in COMPARED:
@@ -107,7 +119,7 @@ def one(problem, key: str, values, workers: int | None = None) -> dict:
     return {"problem": str(problem.relative_to(ROOT)) if problem.is_relative_to(ROOT)
             else str(problem), "key": key, "points": len(values), "separate_s": t_sep,
             "sweep_s": t_sw, "speedup": t_sep / t_sw, "max_rel_diff": diff,
-            "all_ok": all(r["status"] == "ok" for r in rows)}
+            "all_ok": all(r["status"] == "ok" for r in rows), "same_files": same}
 
 
 def main(argv=None) -> None:
@@ -125,12 +137,14 @@ def main(argv=None) -> None:
         cases = {k: v for k, v in CASES.items() if args.case in (k, "both")}
     print(machine_line())
     print()
-    print("| case | points | separate runs s | sweep s | speed-up | largest rel. difference |")
-    print("|---|---|---|---|---|---|")
+    print("| case | points | separate runs s | sweep s | speed-up | largest rel. difference "
+          "| same files |")
+    print("|---|---|---|---|---|---|---|")
     for name, (problem, key, values) in cases.items():
         r = one(problem, key, values, args.workers)
         print(f"| {name} | {r['points']} | {r['separate_s']:.1f} | {r['sweep_s']:.1f} | "
-              f"{r['speedup']:.1f}x | {r['max_rel_diff']:.1e} |")
+              f"{r['speedup']:.1f}x | {r['max_rel_diff']:.1e} | "
+              f"{'yes' if r['same_files'] else 'NO'} |")
         print(json.dumps(r), file=sys.stderr)
 
 

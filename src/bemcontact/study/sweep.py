@@ -2,7 +2,8 @@
 
 Every point (:mod:`.points`) is a task on a Dask cluster: a
 ``LocalCluster`` on this machine by default (one single-threaded worker
-process per core), or an existing one (``scheduler``).  Points whose bodies
+process per core, forks of a server that imports what a point needs while
+the sweep is planned), or an existing one (``scheduler``).  Points whose bodies
 are the same (equal :func:`~.points.group_key`: only friction, penalty,
 load values or history or Newton options differ) are sent to the same
 worker, which condenses the bodies once (:meth:`ContactProblem.condense`,
@@ -39,6 +40,7 @@ import math
 import os
 import pathlib
 import secrets
+import signal
 import threading
 import time
 import tomllib
@@ -64,6 +66,15 @@ INSTALL = 'pip install "bemcontact[sweep]"'
 MARKER = ".bemcontact-sweep.json"
 #: Condensations a worker process keeps in memory (least recently used dropped).
 KEEP = 2
+#: How the local cluster starts its worker processes: forks of a server that
+#: imports :data:`PRELOAD` once, while the sweep is planned (Dask's default,
+#: spawn, starts a fresh interpreter per worker that imports everything again
+#: after the cluster has started).
+START_METHOD = "forkserver"
+#: What the workers import before their first point: Dask, a point's task and
+#: what a point's output imports (meshio; matplotlib for frame_tractions.png
+#: and sweep.png).  A module that cannot be imported is left out.
+PRELOAD = ("distributed", "bemcontact.study.sweep", "meshio", "matplotlib.pyplot")
 
 
 @dataclass(frozen=True)
@@ -218,9 +229,10 @@ def plan_sweep(problem: str | os.PathLike, out: str | os.PathLike,
 
 
 @contextlib.contextmanager
-def _connect(options: SweepOptions, client=None):
+def _connect(options: SweepOptions, client=None, start_method: str = "spawn"):
     """A Dask client: the one given, one of the scheduler at
-    ``options.scheduler``, or one of a new local cluster."""
+    ``options.scheduler``, or one of a new local cluster whose workers
+    start by ``start_method`` (Dask's ``multiprocessing-method``)."""
     if client is not None:
         yield client
         return
@@ -235,11 +247,70 @@ def _connect(options: SweepOptions, client=None):
         with c:
             yield c
         return
-    cluster, c = _local_cluster(options)
+    import dask
+
+    with dask.config.set({"distributed.worker.multiprocessing-method": start_method}):
+        cluster, c = _local_cluster(options)
+        try:
+            yield c
+        finally:
+            _close(cluster, c)
+
+
+def _start_fork_server() -> str:
+    """Start the local cluster's fork server now, in the background: it
+    imports :data:`PRELOAD` while this process plans the sweep, and the
+    workers are forks of it (a server of one thread, unlike this process
+    once Dask runs).  It gets the environment Dask gives spawned workers
+    (``distributed.nanny.pre-spawn-environ``: one BLAS thread, ...) and
+    ignores SIGINT, as the workers forked from it: a Ctrl-C stops this
+    process only, which closes the cluster (spawned workers each printed a
+    KeyboardInterrupt traceback).  It ends when this process does.  Returns
+    the start method: ``spawn`` where there is no fork server (Windows)."""
+    import multiprocessing
+    import multiprocessing.forkserver
+
+    import dask
+    import distributed  # noqa: F401  (its configuration)
+
+    env = {k: os.environ.get(k, str(v)) for k, v in
+           dask.config.get("distributed.nanny.pre-spawn-environ").items() if v is not None}
+    if env.get("PYTHONHASHSEED") in (None, "0"):  # as distributed.nanny.Nanny
+        env["PYTHONHASHSEED"] = "6640"
     try:
-        yield c
+        ctx = multiprocessing.get_context(START_METHOD)
+    except ValueError:
+        return "spawn"
+    os.environ.update(env)  # what the Nanny does before spawning a worker
+    ctx.set_forkserver_preload(list(PRELOAD))
+    # an ignored signal stays ignored in a new interpreter, which then installs
+    # no KeyboardInterrupt handler, and in the forks of the server
+    main = threading.current_thread() is threading.main_thread()
+    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
+    try:
+        multiprocessing.forkserver.ensure_running()
     finally:
-        _close(cluster, c)
+        if old is not None:
+            signal.signal(signal.SIGINT, old)
+    return START_METHOD
+
+
+def _stop_fork_server() -> None:
+    """End the fork server of a sweep that failed its checks at once: it
+    would import for a second more, holding the terminal's streams open
+    (a script reading them waited for it).  Uses multiprocessing's own
+    (private) stop; without it the server ends by itself."""
+    import multiprocessing.forkserver
+
+    server = getattr(multiprocessing.forkserver, "_forkserver", None)
+    pid = getattr(server, "_forkserver_pid", None)
+    stop = getattr(server, "_stop", None)
+    if pid is None or stop is None:
+        return
+    with contextlib.suppress(OSError):
+        os.kill(pid, signal.SIGTERM)
+    with contextlib.suppress(Exception):
+        stop()
 
 
 def _warm() -> None:
@@ -254,19 +325,39 @@ def _local_cluster(options: SweepOptions):
 
     cores = available_cores()
     workers = options.workers or max(1, cores // options.threads)
-    cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", silence_logs=40)
+    with _interrupt_held() as held:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0", silence_logs=40)
+        try:
+            c = Client(cluster)
+        except BaseException:
+            cluster.close()
+            raise
     try:
-        c = Client(cluster)
-    except BaseException:
-        cluster.close()
-        raise
-    try:
+        if held:
+            raise KeyboardInterrupt
         c.run(_warm)
     except BaseException:
         _close(cluster, c)
         raise
     return cluster, c
+
+
+@contextlib.contextmanager
+def _interrupt_held():
+    """A Ctrl-C while the local cluster starts is held (the list yielded
+    holds it) until the start has ended: Dask's start interrupted left a
+    half-started cluster that printed tracebacks at exit."""
+    held: list[int] = []
+    main = threading.current_thread() is threading.main_thread()
+    if not main or signal.getsignal(signal.SIGINT) is None:
+        yield held
+        return
+    old = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
+    try:
+        yield held
+    finally:
+        signal.signal(signal.SIGINT, old)
 
 
 def _close(cluster, c) -> None:
@@ -324,11 +415,13 @@ def _condensation(group: str, pf, options, cache_dir: str):
         return cond
 
 
-def run_point(point_file: str, out_dir: str, group: str, cache_dir: str, threads: int,
-              figures: bool) -> dict[str, Any]:
+def run_point(point_file: str, out_dir: str, group: str, cache_dir: str,
+              threads: int) -> dict[str, Any]:
     """Solve one point's problem file reusing its group's condensed bodies
-    and write its results into ``out_dir`` as ``bemcontact run`` does;
-    returns its row (status ok / not converged / failed, error, outputs)."""
+    and write its results into ``out_dir`` as ``bemcontact run`` does (the
+    same files: ``frame_tractions.png`` too unless the file says ``figures =
+    false``); returns its row (status ok / not converged / failed, error,
+    outputs)."""
     t0 = time.perf_counter()
     row: dict[str, Any] = {"status": "failed", "error": ""}
     try:
@@ -337,7 +430,6 @@ def run_point(point_file: str, out_dir: str, group: str, cache_dir: str, threads
             pf = load_problem(point_file, check_overlap=False)
         content_threads = "threads" in pf.echo.get("solver", {})
         opt = pf.options if content_threads else replace(pf.options, threads=threads)
-        output = pf.output if figures else replace(pf.output, figures=False)
         cond = _condensation(group, pf, opt, cache_dir)
         # bodies far from the origin: ContactProblem solves relative to their
         # own and returns the results at their position (contact/origin.py)
@@ -352,7 +444,7 @@ def run_point(point_file: str, out_dir: str, group: str, cache_dir: str, threads
         else:
             from ..output import write_results
 
-            write_results(result, out_dir, pf.echo, output)
+            write_results(result, out_dir, pf.echo, pf.output)
             row.update(outputs(result), status="ok")
     except BemcontactError as exc:
         row["error"] = one_line(str(exc))
@@ -405,11 +497,18 @@ def run_sweep(
     if not isinstance(opt, SweepOptions):
         raise ConfigError(f"options must be SweepOptions, got {type(opt).__name__}")
     _require_dask()
-    # planned and checked first: bad input fails before anything is written
-    # or started (starting the local cluster during the planning saved 0.25 s
-    # of 3.9 but left a half-started cluster to a Ctrl-C, with warnings)
-    plan = plan_sweep(problem, out, vary)
-    with _connect(opt, client) as c:
+    # the workers' imports run in the fork server while the sweep is planned;
+    # the cluster itself starts after: bad input fails before anything is
+    # written or started (a cluster started during the planning saved 0.25 s
+    # but a Ctrl-C left it half-started, with warnings)
+    method = _start_fork_server() if client is None and not opt.scheduler else "spawn"
+    try:
+        plan = plan_sweep(problem, out, vary)
+    except BaseException:
+        if method == START_METHOD:
+            _stop_fork_server()
+        raise
+    with _connect(opt, client, method) as c:
         return _execute(plan, c, opt, progress, started)
 
 
@@ -423,7 +522,6 @@ def _execute(plan: _Plan, client, opt: SweepOptions, progress, started) -> Sweep
         "problem": str(plan.path), "points": len(plan.points), "keys": plan.keys,
         "spec": plan.spec}, indent=1))
     cache_dir = str(pathlib.Path(opt.cache or out / "cache").resolve())
-    figures = "figures" in (tomllib.loads(plan.points[0].text).get("output") or {})
     rows: dict[str, dict] = {}
     todo = []
     for p in plan.points:
@@ -447,7 +545,7 @@ def _execute(plan: _Plan, client, opt: SweepOptions, progress, started) -> Sweep
     for p in todo:
         f = client.submit(
             run_point, str((out / "points" / f"{p.name}.toml").resolve()),
-            str((out / "points" / p.name).resolve()), p.group, cache_dir, opt.threads, figures,
+            str((out / "points" / p.name).resolve()), p.group, cache_dir, opt.threads,
             key=f"bemcontact-{p.name}-{secrets.token_hex(4)}", pure=False,
             retries=opt.retries, workers=[where[p.name]] if where.get(p.name) else None,
             allow_other_workers=True,

@@ -18,5 +18,6 @@ def test_sweep_benchmark_smoke(tmp_path):
     r = mod.one(tiny_problem(tmp_path), "contact.friction_coefficient", [0.01], workers=1)
     assert r["points"] == 1 and r["all_ok"]
     assert r["max_rel_diff"] <= 1e-10
+    assert r["same_files"]  # each point's directory as its separate run's
     assert r["separate_s"] > 0 and r["sweep_s"] > 0
     assert set(mod.CASES) == {"friction", "load"} and len(mod.CASES["friction"][2]) == 8
