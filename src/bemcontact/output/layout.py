@@ -115,8 +115,10 @@ def layout(
     """The file stems of a run of bodies ``names`` and contact ``pairs``
     ((body 1, body 2), (surface 1, surface 2)) each; at most one pair: the
     two-body names).  Raises :class:`ConfigError` (prefixed ``where``) if a
-    body name cannot name a file or the names clash (compared ignoring
-    case); :func:`check_files` checks the lengths."""
+    body name cannot name a file, the names clash (compared ignoring case)
+    or a file name (``steps/`` ones of up to 999 load steps included) would
+    be longer than :data:`NAME_MAX` bytes.  A problem file's reader may call
+    it before solving, with the pairs' bodies and surfaces."""
     names = list(names)
     for n in names:
         if not isinstance(n, str) or not SAFE_NAME.match(n):
@@ -142,6 +144,8 @@ def layout(
             f"{where}: the body names {names} give clashing file names ({', '.join(clash)}, "
             "compared ignoring case); rename the bodies"
         )
+    check_files([*(f"{s}.vtu" for s in stems),
+                 *(f"{p.figure}frame_tractions.png" for p in out.pairs)], 1, where=where)
     return out
 
 
@@ -158,7 +162,7 @@ def check_files(files: Sequence[str], steps: int = 0, *, where: str = "write_res
     for f in files:
         name = f.rsplit("/", 1)[-1]
         longest = name if not (steps and name.endswith(".vtu")) else (
-            f"{name[:-4]}_{'0' * width}.vtu")
+            f"{name[:-4]}_{1:0{width}d}.vtu")
         if len(os.fsencode(longest)) > NAME_MAX:
             raise ConfigError(
                 f"{where}: the file name {longest!r} is longer than {NAME_MAX} bytes; use "

@@ -218,6 +218,9 @@ def test_two_pairs_of_the_same_bodies_are_named_by_their_surfaces(result, tmp_pa
     (["frame", "lower"], [], "clashing file names"),
     (["lower", "Lower_interface"], [], r"clashing file names \(Lower_interface, "
      r"lower_interface"),
+    (["a", "b"], [(("a", "b"), ("s" * 240, "t")), (("a", "b"), ("u", "v"))],
+     r"write_results: the file name 'a\.s{240}\+b\.t_a_interface_001\.vtu' is longer than "
+     r"255 bytes"),
 ])
 def test_names_that_would_clash_are_refused(names, pairs, message):
     with pytest.raises(bc.ConfigError, match=message):
