@@ -7,16 +7,22 @@ it is a conforming contact).  Both are graded toward the point that touches
 first, with the grading arguments of :func:`~bemcontact.mesh.shapes.spherical_cap`
 (``fine_size`` within ``fine_radius`` of that point, or the knots of
 ``size_profile``, then growing by ``growth`` per unit distance up to
-``coarse_size``).
+``coarse_size``).  :func:`ball`: a whole ball graded toward its two poles,
+mirror symmetric in its equator plane (:func:`mirrored`), for a ball between
+two bodies.
 """
 
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..errors import ConfigError
+from .element import REVERSED
 from .shapes import (
     _axis, _expect_regions, _grading, _grading_ramp, _mesh_with_gmsh, _number, _point,
+    spherical_cap,
 )
 from .surface import SurfaceMesh
 
@@ -182,4 +188,74 @@ def spherical_seat(
     return _expect_regions(mesh, {"contact", "top", "side", "base"}, name)
 
 
-__all__ = ["half_cylinder", "spherical_seat"]
+def mirrored(mesh: SurfaceMesh, z0: float, names: dict[str, str] | None = None) -> SurfaceMesh:
+    """``mesh`` reflected in the plane z = ``z0`` (each element's node order
+    reversed, so the normals stay outward), its regions renamed by ``names``
+    (e.g. ``{"zmin": "zmax", "zmax": "zmin"}`` for a box)."""
+    X = mesh.nodes.copy()
+    X[:, 2] = 2.0 * float(z0) - X[:, 2]
+    E = mesh.elements[:, REVERSED[mesh.element_type]]
+    regions = {(names or {}).get(k, k): v for k, v in mesh.regions.items()}
+    return SurfaceMesh(X, E, mesh.element_type, regions, source=mesh.source)
+
+
+def ball(
+    radius: float,
+    *,
+    fine_size: float,
+    coarse_size: float,
+    fine_radius: float | None = None,
+    lowest=(0.0, 0.0, 0.0),
+    band: float = 0.3,
+    growth: float = 0.3,
+    order: int = 1,
+    size_profile=None,
+) -> SurfaceMesh:
+    """A solid ball of radius ``radius`` whose lowest point is ``lowest``,
+    graded toward its lowest and highest points (the poles, where two
+    counter-bodies above and below touch it): the lower hemisphere of
+    :func:`~bemcontact.mesh.shapes.spherical_cap` and its mirror image in
+    the equator plane, the equator's nodes shared, so the mesh (and a
+    problem built symmetrically around it) is exactly mirror symmetric.
+
+    Regions: ``bottom`` and ``top`` (the two caps, the contact surfaces) and
+    ``band``, the elements within ``band`` R of the equator plane (0 < band
+    < 0.8; where a cage or a support holds the ball).  Grading arguments as
+    for :func:`~bemcontact.mesh.shapes.spherical_cap`."""
+    name = "ball"
+    R = _number(name, "radius", radius)
+    if not (isinstance(band, (int, float)) and 0 < band < 0.8):
+        raise ConfigError(f"{name}: band must be in (0, 0.8), got {band!r}")
+    lo = _point(name, "lowest", lowest)
+    grading = ({"fine_radius": fine_radius} if size_profile is None
+               else {"size_profile": size_profile})
+    cap = spherical_cap(R, R, apex=lo, axis=1, fine_size=fine_size, coarse_size=coarse_size,
+                        order=order, growth=growth, **grading)
+    curved = cap.region("contact")
+    used = np.unique(cap.elements[curved])
+    index = np.full(cap.n_nodes, -1)
+    index[used] = np.arange(used.size)
+    X = cap.nodes[used]
+    E = index[cap.elements[curved]]
+    zc = lo[2] + R  # the equator plane
+    # the upper half: reflected nodes, the equator's shared
+    on_equator = np.abs(X[:, 2] - zc) <= 1e-9 * R
+    new = np.flatnonzero(~on_equator)
+    upper = np.arange(X.shape[0])
+    upper[new] = X.shape[0] + np.arange(new.size)
+    Xm = X[new].copy()
+    Xm[:, 2] = 2.0 * zc - Xm[:, 2]
+    nodes = np.vstack([X, Xm])
+    elements = np.vstack([E, upper[E][:, REVERSED[cap.element_type]]])
+    z = nodes[elements].mean(axis=1)[:, 2]
+    in_band = np.abs(z - zc) < band * R
+    regions = {
+        "bottom": np.flatnonzero(~in_band & (z < zc)),
+        "band": np.flatnonzero(in_band),
+        "top": np.flatnonzero(~in_band & (z > zc)),
+    }
+    mesh = SurfaceMesh(nodes, elements, cap.element_type, regions, source=name)
+    return _expect_regions(mesh.oriented().check(), {"bottom", "band", "top"}, name)
+
+
+__all__ = ["ball", "half_cylinder", "mirrored", "spherical_seat"]

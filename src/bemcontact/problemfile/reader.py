@@ -452,7 +452,7 @@ class _Reader(Checker):
             self.wrap(where, exc, value)
 
     def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
-        """``cap``, ``punch`` or ``graded_box``: a gmsh-generated mesh."""
+        """``cap``, ``punch``, ``graded_box`` or ``ball``: a gmsh-generated mesh."""
         from ..mesh import shapes as geometry
 
         key = schema.MESH.key(source)
@@ -469,6 +469,10 @@ class _Reader(Checker):
             make, args = geometry.spherical_cap, (f.pop("radius"), f.pop("height"))
         elif source == "punch":
             make, args = geometry.punch, (f.pop("radius"), f.pop("height"))
+        elif source == "ball":
+            from ..mesh import curved
+
+            make, args = curved.ball, (f.pop("radius"),)
         else:
             lo, hi = f.pop("lower"), f.pop("upper")
             for a in range(3):

@@ -101,6 +101,24 @@ PUNCH = Key(
     ),
 )
 
+BALL = Key(
+    "ball", "table", "a solid ball meshed by gmsh, graded toward its lowest and highest "
+    "points and mirror symmetric in its equator plane (a ball between two bodies)",
+    section="body.mesh.ball",
+    notes="Regions `bottom` and `top` (the two caps, the contact surfaces) and `band` (within "
+    "`band` R of the equator: where a cage or support holds the ball). Needs the `gmsh` "
+    "Python package.",
+    keys=(
+        Key("radius", "number", "ball radius R (length)", True, lo=0, lo_open=True),
+        Key("fine_radius", "number", "radius of the uniformly fine zone around each pole "
+            "(length); take 1.5 to 2 times the expected contact radius", True, lo=0),
+        Key("lowest", "vector", "the ball's lowest point", default=[0, 0, 0]),
+        Key("band", "number", "half-height of the `band` region over R", default=0.3, lo=0,
+            lo_open=True, hi=0.8, hi_open=True),
+        *_grading_keys(1, "1: flat 3-node triangles; 2: curved 6-node triangles"),
+    ),
+)
+
 GRADED_BOX = Key(
     "graded_box", "table", "a box meshed by gmsh with elements graded toward a point of one "
     "of its faces (the flat counter-body of a Hertz contact or a punch)",
@@ -123,7 +141,7 @@ GRADED_BOX = Key(
 
 MESH = Key(
     "mesh", "table", "the body's closed surface mesh: exactly one of `box`, `file`, `cap`, "
-    "`punch`, `graded_box`", True,
+    "`punch`, `graded_box`, `ball`", True,
     section="body.mesh",
     notes="The surface must be closed and its normals point outward (checked while "
     "loading; `bemcontact mesh-info MESH` shows what is wrong with a mesh file). Mesh "
@@ -139,10 +157,11 @@ MESH = Key(
         CAP,
         PUNCH,
         GRADED_BOX,
+        BALL,
     ),
 )
 #: The mesh generators (one of them, or ``file``, per body).
-MESH_SOURCES = ("box", "file", "cap", "punch", "graded_box")
+MESH_SOURCES = ("box", "file", "cap", "punch", "graded_box", "ball")
 
 MATERIAL = Key(
     "material", "table", "isotropic linear elastic material", True, section="body.material",

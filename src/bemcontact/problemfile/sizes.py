@@ -35,11 +35,13 @@ def check_generated_size(c: Checker, where: str, source: str, f: dict, t: dict) 
     elif source == "punch":
         r, H = f["radius"], f["height"]
         area, rim = 2.0 * math.pi * r * r + 2.0 * math.pi * r * H, r
+    elif source == "ball":  # two hemispheres, each graded toward its pole
+        area = 2.0 * math.pi * f["radius"] ** 2
     else:
         a, b, d = (hi - lo for lo, hi in zip(f["lower"], f["upper"]))
         area = 2.0 * abs(a * b + b * d + d * a)
     estimate = element_estimate(area, f["fine_size"], f["coarse_size"], f["growth"],
-                                f.get("fine_radius") or 0.0, rim)
+                                f.get("fine_radius") or 0.0, rim) * (2 if source == "ball" else 1)
     nodes = estimate * (2.0 if f["order"] == 2 else 0.5)
     if estimate > MAX_ELEMENTS:
         c.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements, more than the "
