@@ -184,6 +184,42 @@ def test_hertz_sphere_on_block_problem_file(tmp_path):
     assert np.sum(f["weight"] * f["pressure"]) == pytest.approx(P, rel=1e-9)
 
 
+def test_thrust_bearing_ball_assembly(tmp_path):
+    """examples/thrust_bearing_ball.toml, an assembly (a ball between two
+    washers, three gmsh meshes, two [[contact]] pairs): both contacts carry
+    the regression force 675.40 N (1e-3, as for the two cubes) and the same
+    force to 1e-6 (the problem is symmetric about the ball's equator up to
+    the two washers' meshes); each contact's peak pressure is within 3 % of
+    Hertz (R = 5 mm on a flat) at its force (measured +0.65 %) and its
+    frame's pressures resolve its force (1e-9); the upper washer's reaction
+    is the load to the collocation accuracy of its face (0.5 %, measured
+    0.15 %); the run writes each pair's files and figure."""
+    from bemcontact.output.read import read_csv
+    from bemcontact.validation.reference.contact import effective_modulus, hertz
+
+    out = tmp_path / "bearing"
+    subprocess.run(
+        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / "thrust_bearing_ball.toml"),
+         "--out", str(out), "--quiet"],
+        check=True, capture_output=True, text=True,
+    )
+    s = json.loads((out / "summary.json").read_text())
+    assert s["converged"] is True
+    pairs = s["pairs"]
+    assert [p["bodies"] for p in pairs] == [["lower", "ball"], ["ball", "upper"]]
+    forces = [p["normal_force"] for p in pairs]
+    assert forces == pytest.approx([675.40, 675.40], rel=1e-3)
+    assert forces[1] == pytest.approx(forces[0], rel=1e-6)
+    load = -s["reactions"]["upper"]["zmax"][2]
+    assert load == pytest.approx(forces[0], rel=5e-3)
+    estar = effective_modulus(210e3, 0.3, 210e3, 0.3)
+    for p, P in zip(pairs, forces):
+        f = read_csv(out / f"{p['files']}_frame.csv")
+        assert f["pressure"].max() == pytest.approx(hertz(P, 5.0, estar).peak_pressure, rel=0.03)
+        assert np.sum(f["weight"] * f["pressure"]) == pytest.approx(P, rel=1e-9)
+        assert (out / f"{p['files']}_frame_tractions.png").is_file()
+
+
 def test_block_from_mesh_file(tmp_path):
     """examples/block_from_mesh_file.toml (a gmsh .msh body with named
     physical groups against a generated box): converges, the normal force is

@@ -11,6 +11,9 @@ example problem file solved as the command solves it (ProblemFile.solve and
 * ``gallery_hertz_frame.png``, ``gallery_hertz_profile.png``:
   frame_tractions.png and frame_profile.png of
   examples/hertz_sphere_on_block.toml (needs gmsh; about 30 s).
+* ``gallery_bearing_profile.png``: the upper pair's
+  ``ball+upper_frame_profile.png`` of examples/thrust_bearing_ball.toml, an
+  assembly (needs gmsh; about 40 s).
 
 The other gallery figures are docs/validation.md's
 (``make_validation_figures.py``).
@@ -36,6 +39,8 @@ GALLERY = {
     "block": ("block_from_mesh_file.toml", {"frame_tractions.png": "gallery_block_frame.png"}),
     "hertz": ("hertz_sphere_on_block.toml", {"frame_tractions.png": "gallery_hertz_frame.png",
                                              "frame_profile.png": "gallery_hertz_profile.png"}),
+    "bearing": ("thrust_bearing_ball.toml",
+                {"ball+upper_frame_profile.png": "gallery_bearing_profile.png"}),
 }
 
 
@@ -48,7 +53,8 @@ def make(name: str, out: pathlib.Path) -> list[pathlib.Path]:
         made = []
         for src, dst in figures.items():
             made.append(pathlib.Path(shutil.copy(pathlib.Path(tmp) / "run" / src, out / dst)))
-    print(f"{toml}: normal force {result.normal_force:.6g}, frame {result.frame.counts()}; "
+    forces = ", ".join(f"{p.normal_force:.6g}" for p in result.pairs)
+    print(f"{toml}: normal force(s) {forces}, frame {result.frame.counts()}; "
           + ", ".join(p.name for p in made))
     return made
 

@@ -419,9 +419,11 @@ class InterfaceSystem:
 
     def first_touch(self, z, ell, k_prev) -> np.ndarray:
         """Predictor for a force-controlled body held only by the contact
-        (a sphere pushed by a force onto a block, touching at a point): with
-        every node open at ``z`` the Newton matrix is singular in the
-        platen's translation.  Each such translation (its resultant row has
+        (a sphere pushed by a force onto a block, touching at a point), or a
+        floating one (a free rigid mode: a block resting on another under a
+        pressure): with every node open at ``z`` the Newton matrix is
+        singular in the platen's translation or the free mode.  Each free
+        mode, then each such translation (its resultant row has
         no stiffness of its own) is moved, traction multipliers held, until
         the augmented-Lagrangian trial pressures max(0, -r k_n) of the nodes
         it closes balance the prescribed force: a penalty contact that
@@ -438,6 +440,22 @@ class InterfaceSystem:
         col = 3 * self.m
         for i, c in enumerate(self.cb):
             nf, nc = self.nf[i], self.nc[i]
+            # a floating body (free rigid modes) that only the contact can hold:
+            # its modal loads balanced by the trial pressures the same way
+            modal = -(c.known_modal_force @ ell) - self.E[i] @ lam if nf else ()
+            for k_ in range(nf):
+                s = self.L[2 * i][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dalpha
+                if not np.any(s != 0.0) or modal[k_] == 0.0:
+                    continue
+                e = self.E[i][k_].reshape(-1, 3)[:, 2]  # modal force per pressure
+                u = _balance(
+                    lambda du, s=s, e=e: float(e @ np.maximum(0.0, -self.r * (kn0 + s * du))),
+                    float(modal[k_]),
+                    max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
+                )
+                if u is not None:
+                    z[col + k_] += u
+                    kn0 = kn0 + s * u
             need = c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam if nc else ()
             for k_ in range(nc):
                 s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU

@@ -280,3 +280,22 @@ def test_more_threads_than_cores_are_capped(monkeypatch):
     same = prob.solve(bc.SolverOptions(threads=cores))
     np.testing.assert_allclose(many.contact_force, same.contact_force, rtol=0,
                                atol=1e-12 * abs(same.normal_force))
+
+
+def test_a_floating_block_resting_on_another_starts_from_its_first_touch():
+    """A block held in z only by the contact (rollers on x = 0 and y = 0),
+    pressed by p = 2 onto another, its interface nodes starting at gaps of
+    round-off size (all open at lam = 0): the free mode is moved until the
+    trial pressures carry the load (InterfaceSystem.first_touch), so the
+    first Newton matrix is not singular.  Uniform stress: the patch test's
+    1e-8 (measured 7e-11), in one Newton iteration."""
+    rollers = {"xmin": bc.Displacement((0, None, None)), "ymin": bc.Displacement((None, 0, None))}
+    m = bc.LinearElastic(1e4, 0.3)
+    lower = bc.ElasticBody(bc.box((0, 0, 0), (1, 1, 1), (3, 3, 2)), m,
+                           {"zmin": bc.Displacement((None, None, 0)), **rollers}, name="bottom")
+    upper = bc.ElasticBody(bc.box((0, 0, 1), (1, 1, 2), (4, 4, 2)), m,
+                           {"zmax": bc.Pressure(2.0), **rollers}, name="top")
+    res = bc.ContactProblem(lower, upper, bc.ContactPair("zmax", "zmin", frame_on="coarser")).solve()
+    assert res.converged and res.newton_iterations <= 2
+    act = res.frame.weights > 0
+    assert np.abs(res.frame.pressure[act] / 2.0 - 1.0).max() <= 1e-8

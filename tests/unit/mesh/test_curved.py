@@ -98,3 +98,31 @@ def test_spherical_seat():
 def test_bad_input(call, match):
     with pytest.raises(ConfigError, match=match):
         call()
+
+
+def test_ball_is_closed_graded_and_mirror_symmetric():
+    """The ball of bemcontact.mesh.curved: regions, one closed outward
+    shell, nodes on the sphere (1e-10 R), inscribed volume (below the
+    sagitta bound), and its mirror image in the equator plane is itself:
+    every node's reflection is a node (1e-12 R) and the caps swap."""
+    from bemcontact.mesh.curved import ball, mirrored
+
+    lo = (1.0, 2.0, 3.0)
+    m = ball(R, fine_size=0.4, coarse_size=2.5, fine_radius=1.0, lowest=lo, band=0.3)
+    assert set(m.region_names) == {"bottom", "band", "top"}
+    assert len(m.components()) == 1
+    m.check()
+    centre = np.array([lo[0], lo[1], lo[2] + R])
+    assert np.abs(np.linalg.norm(m.nodes - centre, axis=1) - R).max() <= 1e-10 * R
+    exact = 4.0 / 3.0 * math.pi * R**3
+    assert 0 < exact - m.signed_volume() < 0.02 * exact
+    image = mirrored(m, centre[2], {"bottom": "top", "top": "bottom"})
+    key = lambda X: np.round(X / (1e-12 * R)).astype(np.int64)  # noqa: E731
+    assert {tuple(p) for p in key(image.nodes)} == {tuple(p) for p in key(m.nodes)}
+    assert image.signed_volume() == pytest.approx(m.signed_volume(), rel=1e-12)
+    # graded toward both poles: small elements there, large at the equator
+    sizes = np.sqrt(m.surface_quadrature(2).weights.sum(axis=1))
+    z = m.nodes[m.elements].mean(axis=1)[:, 2] - centre[2]
+    assert sizes[np.abs(z) > 0.99 * R].max() < sizes[np.abs(z) < 0.1 * R].min()
+    with pytest.raises(ConfigError, match="ball: band must be in"):
+        ball(R, fine_size=0.4, coarse_size=2.5, fine_radius=1.0, band=0.9)

@@ -164,7 +164,7 @@ def test_cap_mesh_from_a_problem_file_is_the_geometry_function_s(tmp_path):
          "fine_size = 0.5, coarse_size = 1, fine_radius = 0.5 }", "body[1].mesh.graded_box",
          "must lie on a face of the box"),
         ('file = "x.msh", box = { lower = [0, 0, 0], upper = [1, 1, 1], divisions = 1 }',
-         "body[1].mesh", "give exactly one of box, file, cap, punch, graded_box (given: box, file)"),
+         "body[1].mesh", "give exactly one of box, file, cap, punch, graded_box, ball (given: box, file)"),
         ('punch = { radius = 1, height = 1, fine_size = 0.1, coarse_size = 1 }, '
          'element_type = "tri6"', "body[1].mesh.element_type", "applies only to mesh files"),
     ],
