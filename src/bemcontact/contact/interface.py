@@ -34,6 +34,36 @@ def _frame_set(frame: ContactFrame | FrameSet) -> FrameSet:
     return FrameSet.single(frame) if isinstance(frame, ContactFrame) else frame
 
 
+#: Most sweeps of the floating bodies' first-touch moves (:meth:`InterfaceSystem._float`).
+FLOAT_SWEEPS = 30
+
+
+def _root(g, step: float) -> float | None:
+    """du with g(du) = 0 (to bisection accuracy) for a g monotone in du:
+    0 if g(0) = 0; else doubling steps in each direction bracket a change of
+    sign, then 100 bisections.  None when neither direction finds one."""
+    g0 = g(0.0)
+    if g0 == 0.0:
+        return 0.0
+    for direction in (1.0, -1.0):
+        lo, h = 0.0, step
+        for _ in range(80):
+            hi = direction * h
+            v = g(hi)
+            if v != 0.0 and np.sign(v) != np.sign(g0):
+                for _ in range(100):
+                    mid = 0.5 * (lo + hi)
+                    if np.sign(g(mid)) == np.sign(g0):
+                        lo = mid
+                    else:
+                        hi = mid
+                return hi
+            if v == 0.0:
+                return hi
+            lo, h = hi, 2.0 * h
+    return None
+
+
 def _balance(force, target: float, step: float) -> float | None:
     """du with force(du) = target (to bisection accuracy, on the side that
     reaches it) for a force(du) that is zero near du = 0 and grows
@@ -418,20 +448,30 @@ class InterfaceSystem:
         return A, b, keep, state
 
     def first_touch(self, z, ell, k_prev) -> np.ndarray:
-        """Predictor for a force-controlled body held only by the contact
-        (a sphere pushed by a force onto a block, touching at a point), or a
-        floating one (a free rigid mode: a block resting on another under a
-        pressure): with every node open at ``z`` the Newton matrix is
-        singular in the platen's translation or the free mode.  Each free
-        mode, then each such translation (its resultant row has
-        no stiffness of its own) is moved, traction multipliers held, until
-        the augmented-Lagrangian trial pressures max(0, -r k_n) of the nodes
-        it closes balance the prescribed force: a penalty contact that
-        starts Newton with a patch of about the right size.  ``z`` is
-        returned unchanged when a node is already closed, or when no such
-        translation moves the normal gaps (it is left to the error of the
-        singular matrix)."""
+        """Predictor for bodies held only by the contact, whose rigid motion
+        the Newton matrix cannot fix while their nodes are open.
+
+        * Floating bodies (free rigid modes: a block resting on another under
+          a pressure, a stack of them) at a solve's start (every traction
+          zero): their free modes are moved until the trial pressures of
+          all their pairs balance their modal loads (:meth:`_float`); the
+          nodes that touch up to round-off at the start would otherwise be
+          open or closed by the sign of that round-off.
+        * A force-controlled platen (a sphere pushed by a force onto a block,
+          touching at a point) when every node is open at ``z``: each such
+          translation (its resultant row has no stiffness of its own) is
+          moved, traction multipliers held, until the augmented-Lagrangian
+          trial pressures max(0, -r k_n) of the nodes it closes balance the
+          prescribed force.
+
+        Either gives Newton a penalty contact with a patch of about the right
+        size.  ``z`` is otherwise returned unchanged (a node already closed,
+        or no such translation moving the normal gaps: it is left to the
+        error of the singular matrix)."""
         lam, _ = self.split(z)
+        if sum(self.nf) and not lam.any():  # a solve's start: no traction yet
+            z = z.copy()
+            self._float(z, ell, lam)
         state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu_nodes, self.r, self.r)
         if (state != law.OPEN).any():
             return z
@@ -440,22 +480,6 @@ class InterfaceSystem:
         col = 3 * self.m
         for i, c in enumerate(self.cb):
             nf, nc = self.nf[i], self.nc[i]
-            # a floating body (free rigid modes) that only the contact can hold:
-            # its modal loads balanced by the trial pressures the same way
-            modal = -(c.known_modal_force @ ell) - self.E[i] @ lam if nf else ()
-            for k_ in range(nf):
-                s = self.L[2 * i][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dalpha
-                if not np.any(s != 0.0) or modal[k_] == 0.0:
-                    continue
-                e = self.E[i][k_].reshape(-1, 3)[:, 2]  # modal force per pressure
-                u = _balance(
-                    lambda du, s=s, e=e: float(e @ np.maximum(0.0, -self.r * (kn0 + s * du))),
-                    float(modal[k_]),
-                    max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
-                )
-                if u is not None:
-                    z[col + k_] += u
-                    kn0 = kn0 + s * u
             need = c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam if nc else ()
             for k_ in range(nc):
                 s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
@@ -474,6 +498,45 @@ class InterfaceSystem:
                     kn0 = kn0 + s * u
             col += nf + nc
         return z
+
+    def _float(self, z, ell, lam) -> np.ndarray:
+        """Move the free rigid modes of floating bodies (held by the contact
+        alone: a block resting on another under a pressure, a stack), in
+        ``z`` in place, until the augmented-Lagrangian trial pressures
+        max(0, -r k_n) of all their pairs balance their modal loads: one
+        mode at a time, body after body, repeated (a stack passes its load
+        down one body per sweep) until no mode moves by more than 1e-6 of
+        its last move or :data:`FLOAT_SWEEPS` sweeps.  Returns the normal
+        relative displacements k_n there."""
+        kn = self.k(z, ell)[:, 2]
+        modes = []
+        col = 3 * self.m
+        for i, c in enumerate(self.cb):
+            if self.nf[i]:
+                target = -(c.known_modal_force @ ell) - self.E[i] @ lam
+                for k_ in range(self.nf[i]):
+                    s = self.L[2 * i][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dalpha
+                    if np.any(s != 0.0):
+                        e = self.E[i][k_].reshape(-1, 3)[:, 2]  # modal force per pressure
+                        modes.append((col + k_, s, e, float(target[k_])))
+            col += self.nf[i] + self.nc[i]
+        if not modes:
+            return kn
+        scale = max(float(np.abs(kn).max()), 1e-12)
+        for _ in range(FLOAT_SWEEPS):
+            largest = 0.0
+            for j, s, e, target in modes:
+                u = _root(lambda du, s=s, e=e, t=target:
+                          float(e @ np.maximum(0.0, -self.r * (kn + s * du))) - t,
+                          scale / float(np.abs(s).max()))
+                if u:
+                    z[j] += u
+                    kn = kn + s * u
+                    largest = max(largest, abs(u) * float(np.abs(s).max()))
+            if largest <= 1e-6 * scale:
+                break
+            scale = largest
+        return kn
 
     def located(self, p: int, side: int):
         """Where each contact node of side ``side`` of pair ``p`` sits on the

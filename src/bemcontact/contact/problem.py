@@ -20,6 +20,7 @@ from ..linalg.threads import blas_threads, usable_threads
 from ..mesh.element import CORNERS
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
+from . import law
 from .condensation import condense
 from .frame import ContactFrame
 from .frames import FrameSet
@@ -481,6 +482,20 @@ class ContactProblem:
         condensed.check(self._solved, self.pairs, opt.linear)
         self._frames = condensed.frames
 
+    def _closed(self, system, z, ell, k_prev) -> str:
+        """``; closed: <pair> c/m, ...``, the closed frame nodes of each pair
+        at ``z`` (an assembly's progress per pair; '' for one pair)."""
+        if len(self.pairs) < 2:
+            return ""
+        lam, _ = system.split(z)
+        state = law.contact_state(lam.reshape(-1, 3), system.k(z, ell), k_prev,
+                                  system.mu_nodes, system.r, system.r)
+        parts = []
+        for p, pair in enumerate(self.pairs):
+            st = state[system.frames.slice(p)]
+            parts.append(f"{pair.label} {int(np.count_nonzero(st))}/{st.size}")
+        return "; closed: " + ", ".join(parts)
+
     @staticmethod
     def _increment(system, predictor, z, ell_prev, ell, k_prev, opt, report, done, total,
                    steps_solver):
@@ -546,7 +561,8 @@ class ContactProblem:
                 done += 1
                 if report is not None:
                     report(ProgressEvent("increment", "newton",
-                                         f"{name} increment {i}/{step.increments}",
+                                         f"{name} increment {i}/{step.increments}"
+                                         + self._closed(system, z, ell_prev, k_prev),
                                          index=done, total=total))
                 z, rec, msg = self._increment(system, predictor, z, ell_prev, ell, k_prev, opt,
                                               report, done, total, steps_solver)
@@ -568,7 +584,8 @@ class ContactProblem:
         if report is not None and failed is None:
             its = sum(r.iterations for r in records)
             report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
-                                 "iteration(s)", index=total, total=total, seconds=t4 - t3))
+                                 "iteration(s)" + self._closed(system, z, ell, k_prev),
+                                 index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
         result = recover(system, z, ell, k_start, records, self._solved)
         result.label = steps[len(history) if failed else -1].label

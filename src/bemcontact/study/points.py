@@ -92,7 +92,8 @@ def check_key(chk: Checker, text: str) -> list[str | int]:
     shown = ""
     for i, tok in enumerate(tokens):
         if isinstance(tok, int):
-            if key.type == "tables" and not element:
+            # [[contact]] may also be an array of tables (an assembly's pairs)
+            if (key.type == "tables" or key is schema.CONTACT) and not element:
                 element = True
             elif key.type in _VECTORS and i == len(tokens) - 1:
                 if tok > 2 and key.type != "strings":

@@ -25,27 +25,56 @@ FIGURE_OUTPUTS = ("normal_force", "tangential_force", "slip_area", "peak_pressur
                   "newton_iterations")
 
 
-def outputs(result) -> dict[str, Any]:
-    """The key outputs of a :class:`~bemcontact.contact.ContactResult`."""
-    fr = result.frame
+#: Outputs repeated per contact pair of an assembly, as ``pair<k>.<name>``
+#: columns (k from 1, in the problem's order) after :data:`OUTPUTS`; the
+#: columns of :data:`OUTPUTS` hold the first pair's.
+PAIR_OUTPUTS = ("normal_force", "tangential_force", "stick", "slip", "open", "peak_pressure",
+                "slip_area", "contact_area")
+
+
+def _pair_outputs(pr) -> dict[str, Any]:
+    fr = pr.frame
     state = np.asarray(fr.state)
     w = np.asarray(fr.weights)
     counts = fr.counts()
     return {
-        "converged": bool(result.converged),
-        "normal_force": float(result.normal_force),
-        "tangential_force": float(result.tangential_force),
-        "force_x": float(result.contact_force[0]),
-        "force_y": float(result.contact_force[1]),
-        "force_z": float(result.contact_force[2]),
-        "newton_iterations": int(result.newton_iterations),
-        "increments": len(result.steps),
+        "normal_force": float(pr.normal_force),
+        "tangential_force": float(pr.tangential_force),
         "stick": counts.get("stick", 0), "slip": counts.get("slip", 0),
         "open": counts.get("open", 0),
         "peak_pressure": float(np.max(fr.pressure)) if fr.pressure.size else 0.0,
         "slip_area": float(w[state == 2].sum()),
         "contact_area": float(w[state != 0].sum()),
     }
+
+
+def outputs(result) -> dict[str, Any]:
+    """The key outputs of a :class:`~bemcontact.contact.ContactResult`
+    (an assembly's: its first pair's, and every pair's as ``pair<k>.*``)."""
+    out = {
+        "converged": bool(result.converged),
+        **_pair_outputs(result),
+        "force_x": float(result.contact_force[0]),
+        "force_y": float(result.contact_force[1]),
+        "force_z": float(result.contact_force[2]),
+        "newton_iterations": int(result.newton_iterations),
+        "increments": len(result.steps),
+    }
+    pairs = getattr(result, "pairs", [])
+    if len(pairs) > 1:
+        for k, pr in enumerate(pairs, 1):
+            out.update({f"pair{k}.{n}": v for n, v in _pair_outputs(pr).items()})
+    return out
+
+
+def _pair_columns(rows: list[dict]) -> list[str]:
+    """The ``pair<k>.*`` columns the rows hold, pair by pair."""
+    k = 1
+    cols: list[str] = []
+    while any(f"pair{k}.normal_force" in r for r in rows):
+        cols += [f"pair{k}.{n}" for n in PAIR_OUTPUTS]
+        k += 1
+    return cols
 
 
 def _cell(v: Any) -> str:
@@ -71,8 +100,9 @@ def _atomic(path: pathlib.Path, write) -> None:
 
 def write_table(out: pathlib.Path, keys: list[str], rows: list[dict]) -> list[pathlib.Path]:
     """``table.csv`` (and ``table.parquet`` with pyarrow) in ``out``: one
-    row per point, ``point``, the swept keys, then :data:`OUTPUTS`."""
-    cols = ["point", *keys, *OUTPUTS]
+    row per point, ``point``, the swept keys, then :data:`OUTPUTS` (and an
+    assembly's ``pair<k>.*`` columns, :data:`PAIR_OUTPUTS`)."""
+    cols = ["point", *keys, *OUTPUTS, *_pair_columns(rows)]
 
     def csv_file(tmp):
         with open(tmp, "w", newline="", encoding="utf-8") as f:
@@ -151,5 +181,5 @@ def write_figure(out: pathlib.Path, keys: list[str], rows: list[dict]) -> pathli
     return path
 
 
-__all__ = ["FIGURE_OUTPUTS", "OUTPUTS", "numeric_keys", "outputs", "read_table", "write_figure",
+__all__ = ["FIGURE_OUTPUTS", "OUTPUTS", "PAIR_OUTPUTS", "numeric_keys", "outputs", "read_table", "write_figure",
            "write_table"]
