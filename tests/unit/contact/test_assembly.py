@@ -103,3 +103,27 @@ def test_two_body_form_checks_the_pair_bodies():
         ContactProblem(lower, middle, pair, bodies=[lower, middle], pairs=[pair])
     ok = ContactProblem(lower, middle, ContactPair("zmax", "zmin", bodies=("lower", "middle")))
     assert ok.links == ((0, 1),)
+
+
+def test_a_force_controlled_platen_on_a_stack():
+    """The top of a stack of three blocks pushed by a force through a rigid
+    platen (z force controlled, x and y held), the middle block floating in
+    z: both pairs carry the same force (the middle block's exact equilibrium
+    row: 1e-10; measured 1e-15), the platen's force to the collocation
+    accuracy of the upper block's own equilibrium on its 2 x 2 faces (2e-3;
+    measured 9e-4)."""
+    rollers = {"xmin": bc.Displacement((0, None, None)), "ymin": bc.Displacement((None, 0, None))}
+    bodies = [
+        ElasticBody(box((0, 0, 0), (1, 1, 1), (3, 3, 2)), MAT,
+                    {"zmin": bc.Displacement((None, None, 0)), **rollers}, name="lower"),
+        ElasticBody(box((0, 0, 1), (1, 1, 2), (4, 4, 2)), MAT, dict(rollers), name="middle"),
+        ElasticBody(box((0, 0, 2), (1, 1, 3), (2, 2, 2)), MAT,
+                    {"zmax": [bc.Displacement((0, 0, None)), bc.Force((None, None, -8.0))]},
+                    name="upper"),
+    ]
+    res = ContactProblem(bodies=bodies, pairs=_pairs()).solve()
+    assert res.converged
+    forces = [p.normal_force for p in res.pairs]
+    assert forces[1] == pytest.approx(forces[0], rel=1e-10)
+    assert forces[0] == pytest.approx(8.0, rel=2e-3)
+    assert res.control_displacements["upper"]["zmax"][2] < 0.0
