@@ -24,9 +24,10 @@ from . import law
 from .condensation import condense
 from .frame import ContactFrame
 from .frames import FrameSet
+from .increment import solve_increment
 from .interface import InterfaceSystem
 from .memory import MemoryEstimate, estimate, frame_bytes, machine_memory, resident_bytes
-from .newton import NewtonSteps, newton
+from .newton import NewtonSteps
 from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
 from .pair import ContactPair
@@ -496,25 +497,6 @@ class ContactProblem:
             parts.append(f"{pair.label} {int(np.count_nonzero(st))}/{st.size}")
         return "; closed: " + ", ".join(parts)
 
-    @staticmethod
-    def _increment(system, predictor, z, ell_prev, ell, k_prev, opt, report, done, total,
-                   steps_solver):
-        """One load increment by Newton, from the predictor's starting point
-        when there is one (and from ``z`` if Newton fails from it)."""
-        start, coarse = z, 0
-        if predictor is not None:
-            start = predictor.predict(z, ell_prev, ell, k_prev, opt)
-            coarse = predictor.iterations
-        znew, rec, msg = newton(system, start, ell, k_prev, opt, report, done, total, steps_solver)
-        if msg is not None and start is not z:
-            first = rec
-            znew, rec, msg = newton(system, z, ell, k_prev, opt, report, done, total, steps_solver)
-            rec.iterations += first.iterations
-            rec.factorizations += first.factorizations
-            rec.krylov_iterations += first.krylov_iterations
-        rec.coarse_iterations = coarse
-        return znew, rec, msg
-
     def _solve(self, opt, steps, states, raise_on_failure, report,
                condensed=None) -> ContactResult:
         t0 = time.perf_counter()
@@ -564,8 +546,9 @@ class ContactProblem:
                                          f"{name} increment {i}/{step.increments}"
                                          + self._closed(system, z, ell_prev, k_prev),
                                          index=done, total=total))
-                z, rec, msg = self._increment(system, predictor, z, ell_prev, ell, k_prev, opt,
-                                              report, done, total, steps_solver)
+                z, rec, msg, k_start = solve_increment(system, predictor, z, ell_prev, ell,
+                                                       k_prev, opt, report, done, total,
+                                                       steps_solver)
                 rec.load_factor = tau
                 rec.step = s_ + 1
                 rec.label = step.label

@@ -251,7 +251,7 @@ SOLVER = Key(
     keys=(
         *keys_of(SolverOptions, "tolerance", "max_iterations", "load_steps", "penalty",
                  "line_search_sigma", "min_step", "watchdog", "newton_steps", "predictor",
-                 "threads"),
+                 "closing", "threads"),
         LINEAR,
     ),
 )
