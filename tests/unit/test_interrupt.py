@@ -85,7 +85,7 @@ def test_gmsh_stops_refining_once_interrupted():
     then answered the coarse size (the user's size function is not called
     again) and KeyboardInterrupt is raised once it has finished."""
     pytest.importorskip("gmsh")
-    from bemcontact.mesh.shapes import _mesh_with_gmsh
+    from bemcontact.mesh.mesher import mesh_with_gmsh
 
     calls = []
 
@@ -103,7 +103,7 @@ def test_gmsh_stops_refining_once_interrupted():
 
     start = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        _mesh_with_gmsh(build, (0.01, 0.5), 1, "sphere", size)
+        mesh_with_gmsh(build, (0.01, 0.5), 1, "sphere", size)
     assert len(calls) == 1
     assert time.perf_counter() - start < 5.0
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

@@ -20,10 +20,11 @@ import numpy as np
 
 from ..errors import ConfigError
 from .element import REVERSED
-from .shapes import (
-    _axis, _expect_regions, _grading, _grading_ramp, _mesh_with_gmsh, _number, _point,
-    spherical_cap,
+from .mesher import (
+    check_axis, check_grading, check_number, check_point, expect_regions, grading_ramp,
+    mesh_with_gmsh,
 )
+from .shapes import spherical_cap
 from .surface import SurfaceMesh
 
 #: Relative tolerance of the face classification (face centroids vs planes).
@@ -66,14 +67,14 @@ def half_cylinder(
                       axis=1, direction="y")
     """
     name = "half_cylinder"
-    R = _number(name, "radius", radius)
-    L = _number(name, "length", length)
+    R = check_number(name, "radius", radius)
+    L = check_number(name, "length", length)
     if direction not in ("x", "y"):
         raise ConfigError(f"{name}: direction must be 'x' or 'y', got {direction!r}")
-    fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
-    a = _point(name, "apex", apex)
-    ax = _axis(name, axis)
+    fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
+    ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+    a = check_point(name, "apex", apex)
+    ax = check_axis(name, axis)
     along = 0 if direction == "x" else 1
     z_axis = a[2] + ax * R
 
@@ -108,8 +109,8 @@ def half_cylinder(
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - a[0]) ** 2 + (y - a[1]) ** 2 + (z - a[2]) ** 2))
 
-    mesh = _mesh_with_gmsh(build, (fine, coarse), order, name, size)
-    return _expect_regions(mesh, {"contact", "base", "ends"}, name)
+    mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
+    return expect_regions(mesh, {"contact", "base", "ends"}, name)
 
 
 def spherical_seat(
@@ -140,10 +141,10 @@ def spherical_seat(
     ``side`` (the four sides) and ``base`` (the bottom face).
     """
     name = "spherical_seat"
-    R = _number(name, "radius", radius)
-    d = _number(name, "depth", depth)
-    W = _number(name, "half_width", half_width)
-    H = _number(name, "height", height)
+    R = check_number(name, "radius", radius)
+    d = check_number(name, "depth", depth)
+    W = check_number(name, "half_width", half_width)
+    H = check_number(name, "height", height)
     if not d < R:
         raise ConfigError(f"{name}: depth = {depth!r} must be below radius = {radius!r}")
     rim = math.sqrt(d * (2 * R - d))
@@ -152,9 +153,9 @@ def spherical_seat(
             f"{name}: the dimple's rim radius sqrt(depth (2 radius - depth)) = {rim:.6g} must "
             f"be below half_width = {half_width!r}"
         )
-    fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
-    b = _point(name, "bottom", bottom)
+    fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
+    ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+    b = check_point(name, "bottom", bottom)
     z_top, z_base = b[2] + d, b[2] - H
 
     def build(gmsh):
@@ -184,8 +185,8 @@ def spherical_seat(
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - b[0]) ** 2 + (y - b[1]) ** 2 + (z - b[2]) ** 2))
 
-    mesh = _mesh_with_gmsh(build, (fine, coarse), order, name, size)
-    return _expect_regions(mesh, {"contact", "top", "side", "base"}, name)
+    mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
+    return expect_regions(mesh, {"contact", "top", "side", "base"}, name)
 
 
 def mirrored(mesh: SurfaceMesh, z0: float, names: dict[str, str] | None = None) -> SurfaceMesh:
@@ -223,10 +224,10 @@ def ball(
     < 0.8; where a cage or a support holds the ball).  Grading arguments as
     for :func:`~bemcontact.mesh.shapes.spherical_cap`."""
     name = "ball"
-    R = _number(name, "radius", radius)
+    R = check_number(name, "radius", radius)
     if not (isinstance(band, (int, float)) and 0 < band < 0.8):
         raise ConfigError(f"{name}: band must be in (0, 0.8), got {band!r}")
-    lo = _point(name, "lowest", lowest)
+    lo = check_point(name, "lowest", lowest)
     grading = ({"fine_radius": fine_radius} if size_profile is None
                else {"size_profile": size_profile})
     cap = spherical_cap(R, R, apex=lo, axis=1, fine_size=fine_size, coarse_size=coarse_size,
@@ -255,7 +256,7 @@ def ball(
         "top": np.flatnonzero(~in_band & (z > zc)),
     }
     mesh = SurfaceMesh(nodes, elements, cap.element_type, regions, source=name)
-    return _expect_regions(mesh.oriented().check(), {"bottom", "band", "top"}, name)
+    return expect_regions(mesh.oriented().check(), {"bottom", "band", "top"}, name)
 
 
 __all__ = ["ball", "half_cylinder", "mirrored", "spherical_seat"]

@@ -13,192 +13,14 @@ than its neighbour toward the contact), up to ``coarse_size``.
 
 from __future__ import annotations
 
-import contextlib
 import math
-import os
-import signal
-import tempfile
-import threading
-from collections.abc import Callable, Iterator
 
-import numpy as np
-
-from ..errors import ConfigError, MeshError
-from .read import read_mesh
+from ..errors import ConfigError
+from .mesher import (  # noqa: F401  (load_gmsh, GMSH_INSTALL, element_estimate: re-exported)
+    GMSH_INSTALL, check_axis, check_grading, check_number, check_point, element_estimate,
+    expect_regions, grading_ramp, load_gmsh, mesh_with_gmsh, size_ramp,
+)
 from .surface import SurfaceMesh
-
-#: gmsh element type codes of triangles (3- and 6-node).
-_GMSH_TRIANGLES = (2, 9)
-
-
-#: How to get gmsh (the ``gmsh`` extra).
-GMSH_INSTALL = 'pip install "bemcontact[gmsh]"'
-
-
-def load_gmsh():
-    """The gmsh module; :class:`ConfigError` (one line naming the install
-    command) if it is not installed or its libraries cannot be loaded."""
-    try:
-        import gmsh
-    except ImportError:
-        raise ConfigError(
-            f"needs gmsh to generate this mesh, which is not installed; {GMSH_INSTALL}, or "
-            "give the mesh as a file"
-        ) from None
-    except OSError as exc:  # the gmsh wheel's system libraries (e.g. libGLU) are missing
-        raise ConfigError(
-            f"needs gmsh to generate this mesh, which is installed but cannot be loaded "
-            f"({exc}); install the system library it names, or give the mesh as a file"
-        ) from None
-    return gmsh
-
-
-def _mesh_with_gmsh(
-    build,
-    mesh_size: float | tuple[float, float],
-    order: int,
-    name: str,
-    size: Callable[[float, float, float], float] | None = None,
-) -> SurfaceMesh:
-    """Mesh the surfaces of the model made by ``build(gmsh)`` (geometry,
-    physical groups, mesher options) and read them back, outward oriented
-    and checked.
-
-    Without ``size`` the elements have the uniform size ``mesh_size``.  With
-    ``size(x, y, z) -> float`` (a graded mesh) that function is the only
-    source of element sizes and ``mesh_size`` is the pair (smallest, largest)
-    of its values, to which gmsh clamps.
-    """
-    gmsh = load_gmsh()
-    if order not in (1, 2):
-        raise ConfigError(f"{name}: order must be 1 or 2, got {order!r}")
-    if size is None:
-        if not mesh_size > 0:
-            raise ConfigError(f"{name}: mesh_size must be > 0, got {mesh_size!r}")
-        smallest = largest = mesh_size
-    else:
-        smallest, largest = mesh_size  # validated by the caller
-    with _interrupt_deferred() as interrupted:
-        mesh = _generate(gmsh, build, smallest, largest, order, name, size, interrupted)
-    mesh.source = name
-    return mesh.oriented().check()
-
-
-@contextlib.contextmanager
-def _interrupt_deferred() -> Iterator[Callable[[], bool]]:
-    """Ctrl-C while gmsh meshes.  Python sees the signal only in the size
-    callback, where the KeyboardInterrupt was raised into gmsh's C++ and
-    ignored ("Exception ignored on calling ctypes callback"): the run carried
-    on for minutes.  Here the signal is only noted; the callback then answers
-    the coarse size, so gmsh ends in moments, and the KeyboardInterrupt is
-    raised when it has (from the main thread; elsewhere signals are not
-    Python's)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield lambda: False
-        return
-    caught: list[int] = []
-    previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
-    try:
-        yield lambda: bool(caught)
-    finally:
-        signal.signal(signal.SIGINT, previous)
-    if caught:
-        if callable(previous):
-            previous(signal.SIGINT, None)  # default: raises KeyboardInterrupt
-        elif previous != signal.SIG_IGN:
-            raise KeyboardInterrupt
-
-
-def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) -> SurfaceMesh:
-    gmsh.initialize(interruptible=False)
-    try:
-        gmsh.option.setNumber("General.Terminal", 0)
-        gmsh.model.add(name)
-        build(gmsh)
-        gmsh.model.occ.synchronize()
-        gmsh.option.setNumber("Mesh.MeshSizeMin", smallest)
-        gmsh.option.setNumber("Mesh.MeshSizeMax", largest)
-        if size is not None:
-            for option in (
-                "Mesh.MeshSizeExtendFromBoundary",
-                "Mesh.MeshSizeFromPoints",
-                "Mesh.MeshSizeFromCurvature",
-            ):
-                gmsh.option.setNumber(option, 0)
-            gmsh.model.mesh.setSizeCallback(
-                lambda dim, tag, x, y, z, lc: largest if interrupted() else float(size(x, y, z)))
-        gmsh.option.setNumber("Mesh.ElementOrder", order)
-        gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
-        gmsh.model.mesh.generate(2)
-        if gmsh.option.getNumber("Mesh.RecombineAll") and _has_triangles(gmsh):
-            # Blossom recombination can leave a triangle on a face whose
-            # boundary has an odd number of edges; the "blossom full-quad"
-            # variant gives quadrilaterals only.
-            gmsh.model.mesh.clear()
-            gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 3)
-            gmsh.model.mesh.generate(2)
-            if _has_triangles(gmsh):  # pragma: no cover - gmsh behaviour
-                raise MeshError(f"{name}: gmsh left triangles in a quadrilateral mesh")
-        with tempfile.TemporaryDirectory() as tmp:
-            path = os.path.join(tmp, f"{name}.msh")
-            gmsh.write(path)
-            mesh = read_mesh(path)
-    finally:
-        gmsh.finalize()
-    return mesh
-
-
-def _has_triangles(gmsh) -> bool:
-    return any(int(t) in _GMSH_TRIANGLES for t in gmsh.model.mesh.getElementTypes(2))
-
-
-# ---------------------------------------------------------------- validation
-def _number(name: str, arg: str, value, *, allow_zero: bool = False) -> float:
-    """``value`` as a float, finite and > 0 (>= 0 with ``allow_zero``)."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{name}: {arg} must be a number, got {value!r}") from None
-    if not math.isfinite(v) or v < 0 or (v == 0 and not allow_zero):
-        want = ">= 0" if allow_zero else "> 0"
-        raise ConfigError(f"{name}: {arg} must be a finite number {want}, got {value!r}")
-    return v
-
-
-def _point(name: str, arg: str, value) -> tuple[float, float, float]:
-    try:
-        p = tuple(float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{name}: {arg} must be 3 numbers (x, y, z), got {value!r}") from None
-    if len(p) != 3 or not all(math.isfinite(v) for v in p):
-        raise ConfigError(f"{name}: {arg} must be 3 finite numbers (x, y, z), got {value!r}")
-    return p  # type: ignore[return-value]
-
-
-def _axis(name: str, axis) -> int:
-    if isinstance(axis, bool) or axis not in (1, -1):
-        raise ConfigError(
-            f"{name}: axis must be +1 or -1 (the direction along z from the contact "
-            f"face into the body), got {axis!r}"
-        )
-    return int(axis)
-
-
-def _grading(name: str, fine_size, coarse_size, growth) -> tuple[float, float, float]:
-    fine = _number(name, "fine_size", fine_size)
-    coarse = _number(name, "coarse_size", coarse_size)
-    if fine > coarse:
-        raise ConfigError(
-            f"{name}: fine_size = {fine_size!r} must not exceed coarse_size = {coarse_size!r}"
-        )
-    return fine, coarse, _number(name, "growth", growth)
-
-
-def _expect_regions(mesh: SurfaceMesh, names: set[str], name: str) -> SurfaceMesh:
-    if set(mesh.region_names) != names:  # pragma: no cover - gmsh behaviour
-        raise MeshError(f"{name}: unexpected regions {mesh.region_names}, expected {sorted(names)}")
-    return mesh
-
 
 # ------------------------------------------------------------ uniform meshes
 def hollow_sphere(inner_radius: float, outer_radius: float, mesh_size: float, order: int = 2,
@@ -223,8 +45,8 @@ def hollow_sphere(inner_radius: float, outer_radius: float, mesh_size: float, or
         gmsh.model.addPhysicalGroup(2, s_outer, name="outer")
         gmsh.model.addPhysicalGroup(2, s_inner, name="inner")
 
-    mesh = _mesh_with_gmsh(build, mesh_size, order, "hollow_sphere")
-    return _expect_regions(mesh, {"inner", "outer"}, "hollow_sphere")
+    mesh = mesh_with_gmsh(build, mesh_size, order, "hollow_sphere")
+    return expect_regions(mesh, {"inner", "outer"}, "hollow_sphere")
 
 
 _BOX_REGIONS = {f"{a}{s}" for a in "xyz" for s in ("min", "max")}
@@ -266,87 +88,11 @@ def gmsh_box(lower, upper, mesh_size: float, order: int = 1, quads: bool = False
             gmsh.option.setNumber("Mesh.RecombineAll", 1)
         _box_surfaces(gmsh, lo, hi)
 
-    mesh = _mesh_with_gmsh(build, mesh_size, order, "gmsh_box")
-    return _expect_regions(mesh, _BOX_REGIONS, "gmsh_box")
+    mesh = mesh_with_gmsh(build, mesh_size, order, "gmsh_box")
+    return expect_regions(mesh, _BOX_REGIONS, "gmsh_box")
 
 
 # ------------------------------------------------------------- graded meshes
-def _ramp(fine: float, coarse: float, growth: float, start: float) -> Callable[[float], float]:
-    """Element size at distance d: ``fine`` up to ``start``, then growing by
-    ``growth`` per unit distance, capped at ``coarse``."""
-    return lambda d: min(coarse, fine + growth * max(0.0, d - start))
-
-
-def element_estimate(area: float, fine_size: float, coarse_size: float, growth: float,
-                     fine_radius: float = 0.0, rim: float = 0.0) -> float:
-    """About how many triangles a mesh graded by the distance d from a point
-    (or, with ``rim`` > 0, from a circle of that radius) has on a surface of
-    ``area``, before meshing: sizes h(d) as the mesher's (``fine_size`` up to
-    ``fine_radius``, then growing by ``growth`` per unit distance up to
-    ``coarse_size``), triangles of area (√3/4) h², and the surface within
-    distance d taken as 2πd² + 4π rim d (twice a flat disc, or a band on both
-    sides of the rim) up to the whole ``area``.  An estimate from above (the
-    refined zone is counted as large as it can be), to refuse a mesh no solve
-    could hold before the mesher spends minutes on it."""
-    a4 = 4.0 * math.pi * rim
-    d_max = (-a4 + math.sqrt(a4 * a4 + 8.0 * math.pi * area)) / (4.0 * math.pi)
-    d = np.linspace(0.0, d_max, 4001)
-    mid = 0.5 * (d[1:] + d[:-1])
-    h = np.minimum(coarse_size, fine_size + growth * np.maximum(0.0, mid - fine_radius))
-    dA = (4.0 * math.pi * mid + a4) * np.diff(d)
-    return float(np.sum(dA / (math.sqrt(3.0) / 4.0 * h * h)))
-
-
-def _size_profile(name: str, knots, fine: float, coarse: float) -> list[tuple[float, float]]:
-    """Checked ``size_profile`` knots: (distance, size) pairs, distances
-    starting at 0 and strictly increasing, sizes within [fine, coarse]."""
-    try:
-        pts = [(float(d), float(h)) for d, h in knots]
-    except (TypeError, ValueError):
-        raise ConfigError(
-            f"{name}: size_profile must be (distance, size) pairs, got {knots!r}"
-        ) from None
-    if not pts or pts[0][0] != 0.0:
-        raise ConfigError(f"{name}: size_profile must start at distance 0, got {knots!r}")
-    for (d0, _), (d1, _) in zip(pts, pts[1:]):
-        if not d1 > d0:
-            raise ConfigError(
-                f"{name}: size_profile distances must increase strictly, got {d0!r} then {d1!r}"
-            )
-    for d, h in pts:
-        if not (math.isfinite(d) and math.isfinite(h) and fine <= h <= coarse):
-            raise ConfigError(
-                f"{name}: size_profile size {h!r} at distance {d!r} must lie between "
-                f"fine_size = {fine!r} and coarse_size = {coarse!r}"
-            )
-    return pts
-
-
-def _profile_ramp(knots, coarse: float, growth: float) -> Callable[[float], float]:
-    """Element size at distance d: linear between the knots, then growing by
-    ``growth`` per unit distance from the last one, capped at ``coarse``."""
-    ds = [d for d, _ in knots]
-    hs = [h for _, h in knots]
-    last_d, last_h = ds[-1], hs[-1]
-
-    def size(d: float) -> float:
-        if d >= last_d:
-            return min(coarse, last_h + growth * (d - last_d))
-        return float(np.interp(d, ds, hs))
-
-    return size
-
-
-def _grading_ramp(name, fine, coarse, growth, fine_radius, size_profile):
-    """The size-by-distance function of a graded mesh: the uniform fine zone
-    of radius ``fine_radius``, or the knots of ``size_profile``."""
-    if (fine_radius is None) == (size_profile is None):
-        raise ConfigError(f"{name}: give exactly one of fine_radius and size_profile")
-    if size_profile is None:
-        return _ramp(fine, coarse, growth, _number(name, "fine_radius", fine_radius, allow_zero=True))
-    return _profile_ramp(_size_profile(name, size_profile, fine, coarse), coarse, growth)
-
-
 def spherical_cap(
     radius: float,
     height: float,
@@ -406,17 +152,17 @@ def spherical_cap(
         spherical_cap(10.0, 10.0, fine_size=0.1, coarse_size=2.5, fine_radius=0.8)
     """
     name = "spherical_cap"
-    R = _number(name, "radius", radius)
-    h = _number(name, "height", height)
+    R = check_number(name, "radius", radius)
+    h = check_number(name, "height", height)
     if not h < 2 * R:
         raise ConfigError(
             f"{name}: height = {height!r} must be below 2 * radius = {2 * R!r} (height = radius "
             "is a hemisphere)"
         )
-    fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
-    a = _point(name, "apex", apex)
-    ax = _axis(name, axis)
+    fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
+    ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+    a = check_point(name, "apex", apex)
+    ax = check_axis(name, axis)
     center = (a[0], a[1], a[2] + ax * R)
     z_base = a[2] + ax * h
     lat = math.asin((h - R) / R)  # latitude of the base plane for axis = +1
@@ -436,8 +182,8 @@ def spherical_cap(
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - a[0]) ** 2 + (y - a[1]) ** 2 + (z - a[2]) ** 2))
 
-    mesh = _mesh_with_gmsh(build, (fine, coarse), order, name, size)
-    return _expect_regions(mesh, {"contact", "base"}, name)
+    mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
+    return expect_regions(mesh, {"contact", "base"}, name)
 
 
 def graded_block(
@@ -472,11 +218,11 @@ def graded_block(
                      fine_size=0.1, coarse_size=2.5, fine_radius=0.8)
     """
     name = "graded_block"
-    lo = _point(name, "lower", lower)
-    hi = _point(name, "upper", upper)
+    lo = check_point(name, "lower", lower)
+    hi = check_point(name, "upper", upper)
     if not all(b > a for a, b in zip(lo, hi)):
         raise ConfigError(f"{name}: need lower < upper componentwise, got {lower!r}, {upper!r}")
-    f = _point(name, "focus", focus)
+    f = check_point(name, "focus", focus)
     tol = 1e-9 * max(b - a for a, b in zip(lo, hi))
     inside = all(a - tol <= v <= b + tol for a, v, b in zip(lo, f, hi))
     on_face = any(min(abs(v - a), abs(v - b)) <= tol for a, v, b in zip(lo, f, hi))
@@ -484,8 +230,8 @@ def graded_block(
         raise ConfigError(
             f"{name}: focus = {focus!r} must lie on a face of the box {lower!r} .. {upper!r}"
         )
-    fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
-    ramp = _grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+    fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
+    ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
 
     def build(gmsh):
         gmsh.option.setNumber("Mesh.RandomSeed", 1 + int(seed))
@@ -500,8 +246,8 @@ def graded_block(
     def size(x: float, y: float, z: float) -> float:
         return ramp(math.sqrt((x - f[0]) ** 2 + (y - f[1]) ** 2 + (z - f[2]) ** 2))
 
-    mesh = _mesh_with_gmsh(build, (fine, coarse), order, name, size)
-    return _expect_regions(mesh, _BOX_REGIONS, name)
+    mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
+    return expect_regions(mesh, _BOX_REGIONS, name)
 
 
 def punch(
@@ -531,20 +277,20 @@ def punch(
     Regions: ``contact`` (the flat end), ``side``, ``top``.
     """
     name = "punch"
-    a = _number(name, "radius", radius)
-    H = _number(name, "height", height)
-    fine, coarse, g = _grading(name, fine_size, coarse_size, growth)
+    a = check_number(name, "radius", radius)
+    H = check_number(name, "height", height)
+    fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
     if center_size is None:
         mid = min(2.0 * fine, coarse)
     else:
-        mid = _number(name, "center_size", center_size)
+        mid = check_number(name, "center_size", center_size)
         if not fine <= mid <= coarse:
             raise ConfigError(
                 f"{name}: center_size = {center_size!r} must lie between fine_size = "
                 f"{fine_size!r} and coarse_size = {coarse_size!r}"
             )
-    c = _point(name, "base_center", base_center)
-    ax = _axis(name, axis)
+    c = check_point(name, "base_center", base_center)
+    ax = check_axis(name, axis)
     z_top = c[2] + ax * H
 
     def build(gmsh):
@@ -566,16 +312,16 @@ def punch(
         for key, tags in groups.items():
             gmsh.model.addPhysicalGroup(2, tags, name=key)
 
-    rim = _ramp(fine, coarse, g, 0.0)
-    face = _ramp(mid, coarse, g, 0.0)
+    rim = size_ramp(fine, coarse, g, 0.0)
+    face = size_ramp(mid, coarse, g, 0.0)
 
     def size(x: float, y: float, z: float) -> float:
         w = max(0.0, ax * (z - c[2]))  # height above the flat end
         rho = math.sqrt((x - c[0]) ** 2 + (y - c[1]) ** 2)
         return min(rim(math.hypot(rho - a, w)), face(w))
 
-    mesh = _mesh_with_gmsh(build, (fine, coarse), order, name, size)
-    return _expect_regions(mesh, {"contact", "side", "top"}, name)
+    mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
+    return expect_regions(mesh, {"contact", "side", "top"}, name)
 
 
 __all__ = ["load_gmsh", "GMSH_INSTALL", "hollow_sphere", "gmsh_box", "spherical_cap", "graded_block", "punch"]
