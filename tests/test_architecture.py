@@ -127,3 +127,23 @@ def test_the_compiled_core_is_loaded_in_one_place():
     loaders = [m for m, p in MODULES.items() if "import_module" in p.read_text()
                or "import _core" in p.read_text()]
     assert loaders == ["bemcontact._native"], loaders
+
+
+def _private_imports(path: pathlib.Path) -> list[str]:
+    """``from X import _name`` in ``path`` (X a bemcontact module, _name not
+    a dunder): a private name taken out of its module."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith(
+                "bemcontact")):
+            out += [a.name for a in node.names
+                    if a.name.startswith("_") and not a.name.startswith("__")]
+    return out
+
+
+@pytest.mark.parametrize("module", sorted(MODULES))
+def test_private_names_stay_in_their_module(module):
+    """House style: a name starting with ``_`` is its module's own; no other
+    module imports it (``_native``, the one loader of the compiled core, is
+    imported as a module, not as a name)."""
+    assert _private_imports(MODULES[module]) == [], module

@@ -20,7 +20,7 @@ from ..linalg.options import LinearSolverOptions
 from ..linalg.threads import blas_threads
 from ..mesh import SurfaceMesh
 from .conditions import (
-    BoundaryCondition, Control, Displacement, Force, Pressure, _KINDS,
+    BoundaryCondition, Control, Displacement, Force, Pressure, CONDITION_KINDS,
 )
 from .discretization import Discretization, DiscretizationOptions, discretize
 from .material import LinearElastic
@@ -137,7 +137,7 @@ class ElasticBody:
             items = tuple(bcs) if isinstance(bcs, (list, tuple)) else (bcs,)
             taken: dict[int, str] = {}
             for bc in items:
-                if not isinstance(bc, _KINDS):
+                if not isinstance(bc, CONDITION_KINDS):
                     raise ConfigError(
                         f"{name}: region {region!r}: {bc!r} is not a Displacement, Traction, "
                         "Pressure or Force"

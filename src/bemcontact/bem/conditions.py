@@ -105,7 +105,8 @@ def Fixed() -> Displacement:
 
 
 BoundaryCondition = Union[Displacement, Traction, Pressure, Force]
-_KINDS = (Displacement, Traction, Pressure, Force)
+#: The boundary-condition classes (what ``isinstance`` checks accept).
+CONDITION_KINDS = (Displacement, Traction, Pressure, Force)
 
 
 @dataclass(frozen=True)
@@ -120,5 +121,5 @@ class Control:
 
 
 
-__all__ = ["Displacement", "Traction", "Pressure", "Force", "Fixed", "Control",
+__all__ = ["CONDITION_KINDS", "Displacement", "Traction", "Pressure", "Force", "Fixed", "Control",
            "BoundaryCondition"]

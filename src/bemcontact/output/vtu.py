@@ -174,7 +174,7 @@ def _solutions(result: ContactResult, interfaces) -> list:
     return [result.bodies[list(result.names).index(i.body)] for i in interfaces]
 
 
-def _frame_cells(result: ContactResult, pair=None):
+def frame_cells(result: ContactResult, pair=None):
     """The elements of the frame of ``pair`` (a
     :class:`~bemcontact.contact.results.PairResult` of ``result``; default
     the result's first pair): the frame lies on the corner nodes of one
@@ -218,14 +218,14 @@ def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str
     if not files.assembly:
         for sol, iface in zip(_solutions(result, result.interfaces), result.interfaces):
             _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
-        _write_frame_vtu(directory / f"frame{suffix}.vtu", result.frame, _frame_cells(result))
+        _write_frame_vtu(directory / f"frame{suffix}.vtu", result.frame, frame_cells(result))
         return
     for pair, names in zip(result.pairs, files.pairs):
         for sol, iface, stem in zip(_solutions(result, pair.interfaces), pair.interfaces,
                                     names.interfaces):
             _write_interface_vtu(directory / f"{stem}{suffix}.vtu", sol, iface)
         _write_frame_vtu(directory / f"{names.frame}{suffix}.vtu", pair.frame,
-                         _frame_cells(result, pair))
+                         frame_cells(result, pair))
 
 
 def write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
@@ -241,4 +241,4 @@ def write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-__all__ = ["geometric_values", "region_field_data", "write_state_vtus", "write_pvd"]
+__all__ = ["frame_cells", "geometric_values", "region_field_data", "write_state_vtus", "write_pvd"]

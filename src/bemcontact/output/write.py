@@ -56,7 +56,7 @@ from ..errors import ConfigError, OptionalDependencyWarning
 from ..settings import Key, check_settings, setting
 from .layout import Layout, check_files, pair_stems, result_layout
 from .rundir import RunDirectory
-from .vtu import _frame_cells, write_pvd, write_state_vtus
+from .vtu import frame_cells, write_pvd, write_state_vtus
 
 #: Columns of ``<body>_interface.csv``.
 INTERFACE_COLUMNS = (
@@ -314,7 +314,7 @@ def _write_figures(directory: pathlib.Path, result: ContactResult, units, pair=N
     kw = {"length_unit": u.get("length", ""), "stress_unit": u.get("stress", "")}
     source = result if pair is None else pair
     plot_frame_tractions(source, directory / f"{prefix}frame_tractions.png",
-                         cells=_frame_cells(result, pair), force_unit=u.get("force", ""), **kw)
+                         cells=frame_cells(result, pair), force_unit=u.get("force", ""), **kw)
     axi = axisymmetry(source.frame)
     if axi is None or axi[1] > AXISYMMETRIC_SCATTER:
         return False

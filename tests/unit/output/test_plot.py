@@ -70,7 +70,7 @@ def test_bad_arguments(result, tmp_path, call, message):
 
 from bemcontact.contact.law import SLIP, STICK  # noqa: E402
 from bemcontact.output import plot  # noqa: E402
-from bemcontact.output.write import _frame_cells  # noqa: E402
+from bemcontact.output.vtu import frame_cells  # noqa: E402
 from bemcontact.validation import cases  # noqa: E402
 
 #: A coarse sphere on a block (h = 0.15 mm, a ≈ 0.55 mm on a 20 x 20 mm face).
@@ -120,7 +120,7 @@ def test_frame_tractions_zoomed_to_the_contact_zone_with_units_and_outlines(sphe
     from matplotlib.colors import to_rgb
     from matplotlib.collections import TriMesh
 
-    fig = plot.frame_tractions_figure(sphere, cells=_frame_cells(sphere), length_unit="mm",
+    fig = plot.frame_tractions_figure(sphere, cells=frame_cells(sphere), length_unit="mm",
                                       stress_unit="MPa", force_unit="N")
     maps = [ax for ax in fig.axes if ax.get_title()]
     assert [ax.get_title() for ax in maps] == ["contact pressure", "tangential traction"]
@@ -149,7 +149,7 @@ def test_frame_tractions_zoomed_to_the_contact_zone_with_units_and_outlines(sphe
     some = area[::7]
     off = np.min(np.linalg.norm(some[:, None, :] - lut[None, ::4], axis=2), axis=1) > 0.1
     assert off.mean() < white + 2 * red + 0.02, (off.mean(), white, red)
-    out = plot.plot_frame_tractions(sphere, tmp_path / "f.png", cells=_frame_cells(sphere))
+    out = plot.plot_frame_tractions(sphere, tmp_path / "f.png", cells=frame_cells(sphere))
     from PIL import Image
 
     with Image.open(out) as im:
@@ -157,7 +157,7 @@ def test_frame_tractions_zoomed_to_the_contact_zone_with_units_and_outlines(sphe
 
 
 def test_frictionless_frame_map_has_no_flat_zero_panel(frictionless, tmp_path):
-    fig = plot.frame_tractions_figure(frictionless, cells=_frame_cells(frictionless))
+    fig = plot.frame_tractions_figure(frictionless, cells=frame_cells(frictionless))
     assert [ax.get_title() for ax in fig.axes if ax.get_title()] == ["contact pressure"]
     assert "tangential force 0" in fig.get_suptitle()
     img, _ = _pixels(fig)
