@@ -29,6 +29,9 @@ writes into docs/figures/ (or ``--out DIR``):
 * ``two_spheres_shear.png``: two identical hemispheres pressed together
   with mu = 0.3 at h = 0.1 mm: |q| / p0 with the frame on one sphere and
   between the surfaces (the default), and the pressure against Hertz.
+* ``cattaneo_mindlin_resolutions.png``: q_x along r at Q = 0.5 mu P on plain
+  graded meshes (no ring) at a/h = 12 and 25, against Cattaneo–Mindlin (the
+  benchmark's set-up; about 6 min on 2 cores, most of it a/h = 25).
 * ``fretting_loop.png``: the platen's tangential force against the
   contact's tangential approach over the whole history (initial loading to
   Q* = 0.75 mu P, then Q* -> -Q* -> Q* in 8 increments per branch) against
@@ -229,6 +232,65 @@ def fig_cattaneo_mindlin(out: pathlib.Path) -> pathlib.Path:
                f"(0.03 mm on 0.39–0.50 mm, else 0.05)\n"
                f"stick radius {c:.3f} mm (analytic {c_exact:.3f}), $q_x$ L2 error (r < 0.9a) {l2:.1%}"),
     )
+
+
+def _cm_plain(a_over_h: float):
+    """Cattaneo–Mindlin on a plain graded mesh (no ring) at a/h: the set-up of
+    benchmarks/hertz_mindlin_vs_tamaas.py (h = a/(a/h) within 1.1a, growth
+    0.45; P, then Q = 0.02 and 0.5 mu P, the last in 4 increments)."""
+    approach = 0.03
+    a_guess = np.sqrt(SETUP.radius * approach)
+    h = a_guess / a_over_h
+    s = cases.SphereOnBlock(size_profile=((0.0, h), (1.1 * a_guess, h)), growth=0.45)
+    p_guess = ref.hertz_force(approach, s.radius, s.contact_modulus)
+    prob = cases.sphere_on_block(h, approach, friction_coefficient=MU, setup=s)
+    steps = ([bc.LoadStep(label="P")]
+             + cases.tangential_steps([SMALL * MU * p_guess], approach, increments=1)
+             + cases.tangential_steps([0.5 * MU * p_guess], approach, increments=4))
+    res = prob.solve(steps=steps)
+    Q, _ = cases.platen_history(res)
+    top = res.history[2]
+    hz = _hertz(top.normal_force)
+    return h, top, hz, Q[2]
+
+
+def fig_cattaneo_mindlin_resolutions(out: pathlib.Path) -> pathlib.Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    for ax, a_over_h in zip(axes, (12.0, 25.0)):
+        h, top, hz, Q = _cm_plain(a_over_h)
+        a = hz.contact_radius
+        r, _, qx, w, _ = cases.radial_profile(top.frame)
+        inner = r < 0.9 * a
+        exact = ref.cattaneo_mindlin_traction(r[inner], hz, Q, MU)
+        l2 = cases.weighted_l2(qx[inner], exact, w[inner])
+        c = cases.stick_radius(top.frame)
+        c_exact = ref.cattaneo_mindlin_stick_radius(a, Q, MU, top.normal_force)
+        print(f"  a/h = {a / h:.1f}: q L2 {l2:.4f}, stick radius {c / c_exact - 1:+.4f}")
+        scale = MU * hz.peak_pressure
+        rr = np.linspace(0.0, 1.2 * a, 400)
+        ax.plot(r / a, qx / scale, ".", ms=3, label="bemcontact (frame nodes)")
+        ax.plot(rr / a, ref.cattaneo_mindlin_traction(rr, hz, Q, MU) / scale, "k-", lw=1,
+                label="Cattaneo–Mindlin")
+        ax.axvline(c_exact / a, color="0.6", ls=":", lw=1)
+        ax.set_xlim(0, 1.2)
+        ax.set_xlabel("r / a")
+        ax.set_title(f"a/h = {a / h:.1f}: $q_x$ L2 (r < 0.9a) {l2:.1%}, "
+                     f"stick radius {c / c_exact - 1:+.2%}", fontsize=9)
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("$q_x$ / (μ $p_0$)")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"Cattaneo–Mindlin on plain graded meshes (no ring), μ = {MU}, Q = 0.5 μP",
+                 fontsize=10)
+    fig.tight_layout()
+    path = out / "cattaneo_mindlin_resolutions.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
 
 
 def fig_fretting_loop(out: pathlib.Path) -> pathlib.Path:
@@ -432,6 +494,7 @@ FIGURES = {
     "fretting_loop": fig_fretting_loop,
     "boussinesq_punch": fig_boussinesq,
     "two_spheres_shear": fig_two_spheres_shear,
+    "cattaneo_mindlin_resolutions": fig_cattaneo_mindlin_resolutions,
 }
 
 
