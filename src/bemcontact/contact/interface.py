@@ -39,7 +39,8 @@ FLOAT_SWEEPS = 30
 
 
 def _root(g, step: float) -> float | None:
-    """du with g(du) = 0 (to bisection accuracy) for a g monotone in du:
+    """du with g(du) = 0 (to bisection accuracy, on the side of the change of
+    sign) for a g monotone in du, e.g. a penalty resultant less its target:
     0 if g(0) = 0; else doubling steps in each direction bracket a change of
     sign, then 100 bisections.  None when neither direction finds one."""
     g0 = g(0.0)
@@ -59,30 +60,6 @@ def _root(g, step: float) -> float | None:
                         hi = mid
                 return hi
             if v == 0.0:
-                return hi
-            lo, h = hi, 2.0 * h
-    return None
-
-
-def _balance(force, target: float, step: float) -> float | None:
-    """du with force(du) = target (to bisection accuracy, on the side that
-    reaches it) for a force(du) that is zero near du = 0 and grows
-    monotonically in magnitude in one direction (a penalty resultant):
-    doubling steps in each direction bracket it, then 100 bisections.
-    None when neither direction reaches ``target``."""
-    sign_t = np.sign(target)
-    for direction in (1.0, -1.0):
-        lo, h = 0.0, step
-        for _ in range(80):
-            hi = direction * h
-            f = force(hi)
-            if f != 0.0 and (f - target) * sign_t >= 0:
-                for _ in range(100):
-                    mid = 0.5 * (lo + hi)
-                    if (force(mid) - target) * sign_t >= 0:
-                        hi = mid
-                    else:
-                        lo = mid
                 return hi
             lo, h = hi, 2.0 * h
     return None
@@ -489,9 +466,10 @@ class InterfaceSystem:
                     continue
                 ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
                 # k is affine in z: only U_k moves
-                u = _balance(
-                    lambda du, s=s, ct=ct: float(ct @ np.maximum(0.0, -self.r * (kn0 + s * du))),
-                    float(need[k_]), max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
+                u = _root(
+                    lambda du, s=s, ct=ct, t=float(need[k_]):
+                    float(ct @ np.maximum(0.0, -self.r * (kn0 + s * du))) - t,
+                    max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
                 )
                 if u is not None:
                     z[col + nf + k_] += u

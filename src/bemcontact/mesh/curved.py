@@ -21,6 +21,7 @@ import numpy as np
 from ..errors import ConfigError
 from .element import REVERSED
 from .mesher import (
+    around,
     check_axis, check_grading, check_number, check_point, expect_regions, grading_ramp,
     mesh_with_gmsh,
 )
@@ -106,8 +107,7 @@ def half_cylinder(
         for key, tags in groups.items():
             gmsh.model.addPhysicalGroup(2, tags, name=key)
 
-    def size(x: float, y: float, z: float) -> float:
-        return ramp(math.sqrt((x - a[0]) ** 2 + (y - a[1]) ** 2 + (z - a[2]) ** 2))
+    size = around(ramp, a)
 
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, {"contact", "base", "ends"}, name)
@@ -182,8 +182,7 @@ def spherical_seat(
         for key, tags in groups.items():
             gmsh.model.addPhysicalGroup(2, tags, name=key)
 
-    def size(x: float, y: float, z: float) -> float:
-        return ramp(math.sqrt((x - b[0]) ** 2 + (y - b[1]) ** 2 + (z - b[2]) ** 2))
+    size = around(ramp, b)
 
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, {"contact", "top", "side", "base"}, name)

@@ -263,6 +263,13 @@ def _profile_ramp(knots, coarse: float, growth: float) -> Callable[[float], floa
     return size
 
 
+def around(ramp: Callable[[float], float], point) -> Callable[[float, float, float], float]:
+    """The size function of a mesh graded by the distance from ``point``
+    (``ramp``: size against distance), as :func:`mesh_with_gmsh` takes it."""
+    px, py, pz = point
+    return lambda x, y, z: ramp(math.sqrt((x - px) ** 2 + (y - py) ** 2 + (z - pz) ** 2))
+
+
 def grading_ramp(name, fine, coarse, growth, fine_radius, size_profile):
     """The size-by-distance function of a graded mesh: the uniform fine zone
     of radius ``fine_radius``, or the knots of ``size_profile``."""
@@ -274,6 +281,6 @@ def grading_ramp(name, fine, coarse, growth, fine_radius, size_profile):
 
 
 __all__ = [
-    "GMSH_INSTALL", "check_axis", "check_grading", "check_number", "check_point",
+    "GMSH_INSTALL", "around", "check_axis", "check_grading", "check_number", "check_point",
     "element_estimate", "expect_regions", "grading_ramp", "load_gmsh", "mesh_with_gmsh", "size_ramp",
 ]

@@ -17,6 +17,7 @@ import math
 
 from ..errors import ConfigError
 from .mesher import (  # noqa: F401  (load_gmsh, GMSH_INSTALL, element_estimate: re-exported)
+    around,
     GMSH_INSTALL, check_axis, check_grading, check_number, check_point, element_estimate,
     expect_regions, grading_ramp, load_gmsh, mesh_with_gmsh, size_ramp,
 )
@@ -179,8 +180,7 @@ def spherical_cap(
         gmsh.model.addPhysicalGroup(2, [t for t in faces if t not in flat], name="contact")
         gmsh.model.addPhysicalGroup(2, flat, name="base")
 
-    def size(x: float, y: float, z: float) -> float:
-        return ramp(math.sqrt((x - a[0]) ** 2 + (y - a[1]) ** 2 + (z - a[2]) ** 2))
+    size = around(ramp, a)
 
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, {"contact", "base"}, name)
@@ -243,8 +243,7 @@ def graded_block(
             gmsh.option.setNumber("Mesh.RecombineAll", 1)
         _box_surfaces(gmsh, lo, hi)
 
-    def size(x: float, y: float, z: float) -> float:
-        return ramp(math.sqrt((x - f[0]) ** 2 + (y - f[1]) ** 2 + (z - f[2]) ** 2))
+    size = around(ramp, f)
 
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, _BOX_REGIONS, name)
