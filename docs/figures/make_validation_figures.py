@@ -29,6 +29,12 @@ writes into docs/figures/ (or ``--out DIR``):
 * ``two_spheres_shear.png``: two identical hemispheres pressed together
   with mu = 0.3 at h = 0.1 mm: |q| / p0 with the frame on one sphere and
   between the surfaces (the default), and the pressure against Hertz.
+* ``curvature_shear.png``: the shear under a normal load between identical
+  steel bodies of different curvatures (mu = 0.3, 4 increments, a = 0.56 mm):
+  the saddle field of the crossed cylinders (R = 10 mm, h = 0.05 mm) and the
+  root mean square of |q| / p0 against a/h for crossed cylinders and
+  spheres of different radii at two a/R, against two identical spheres
+  (tests/validation/test_curved_pairs.py; about 6 min on 2 cores).
 * ``cattaneo_mindlin_resolutions.png``: q_x along r at Q = 0.5 mu P on plain
   graded meshes (no ring) at a/h = 12 and 25, against Cattaneo–Mindlin (the
   benchmark's set-up; about 6 min on 2 cores, most of it a/h = 25).
@@ -433,6 +439,67 @@ def fig_two_spheres_shear(out: pathlib.Path) -> pathlib.Path:
     return save_png(fig, out / "two_spheres_shear.png")
 
 
+def _curvature_case(kind: str, R: float, h: float):
+    """(result, share, rms) of one frictional solve (mu = 0.3, 4 increments)
+    at a = 0.556 mm: crossed cylinders of radius R, spheres R and 2R, or two
+    identical spheres of radius R."""
+    from bemcontact.validation import curved
+
+    s = cases.SphereOnBlock(radius=R)
+    if kind == "cylinders":
+        p = curved.crossed_cylinders(h, 0.556**2 / R, setup=s, friction_coefficient=MU)
+    else:
+        R2 = 2 * R if kind == "spheres" else R
+        p = cases.two_spheres(h, gap=0.0, approach=0.556**2 * (R + R2) / (R * R2), setup=s,
+                              friction_coefficient=MU, upper_radius=R2)
+    res = p.solve(bc.SolverOptions(load_steps=4))
+    share, rms = curved.shear_pattern(res.frame, "saddle" if kind == "cylinders" else "radial")
+    return res, share, rms
+
+
+def fig_curvature_shear(out: pathlib.Path) -> pathlib.Path:
+    """Identical steel bodies pressed together with mu = 0.3: the shear of
+    different curvatures converges to a field of the pair's symmetry whose
+    size is first order in a/R; that of mirror-image spheres is noise that
+    falls under refinement."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.5, 4.4), layout="constrained")
+    ax, ax2 = fig.subplots(1, 2)
+    series = (("cylinders", 10.0, "crossed cylinders, a/R = 0.056", "o-"),
+              ("cylinders", 20.0, "crossed cylinders, a/R = 0.028", "o--"),
+              ("spheres", 10.0, "spheres R, 2R, a/R = 0.056", "s-"),
+              ("spheres", 20.0, "spheres R, 2R, a/R = 0.028", "s--"),
+              ("identical", 10.0, "identical spheres (exact: 0)", "^:"))
+    for kind, R, label, style in series:
+        aoh, rms_ = [], []
+        for h in (0.1, 0.07, 0.05):
+            res, share, rms = _curvature_case(kind, R, h)
+            a = res.frame.points[res.frame.pressure > 0, :2]
+            aoh.append(np.hypot(a[:, 0], a[:, 1]).max() / h)
+            rms_.append(rms)
+            print(f"  {label}: h = {h}: rms |q| {rms:.4f} p0, pattern share {share:.2f}")
+            if kind == "cylinders" and R == 10.0 and h == 0.05:
+                fr = res.frame
+                c = fr.pressure > 0
+                qn = fr.tangential_traction[c, :2] / fr.pressure.max()
+                ax.quiver(fr.points[c, 0], fr.points[c, 1], qn[:, 0], qn[:, 1], angles="xy",
+                          scale_units="xy", scale=0.02 / 0.1, width=0.003)
+        ax2.plot(aoh, rms_, style, label=label)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title("crossed cylinders (R = 10 mm, h = 0.05 mm): q at closed nodes\n"
+                 "(arrow 0.1 mm = 0.02 p0): the saddle (x, -y)", fontsize=10)
+    ax2.set_xlabel("a / h (closed frame radius / h)")
+    ax2.set_ylabel("rms |q| / p0 over the contact")
+    ax2.set_ylim(0.0, 0.0105)
+    ax2.set_title("shear under normal load, identical steel, mu = 0.3", fontsize=10)
+    ax2.grid(True, alpha=0.3)
+    ax2.legend(fontsize=8, loc="upper left")
+    return save_png(fig, out / "curvature_shear.png")
+
+
 def fig_boussinesq(out: pathlib.Path) -> pathlib.Path:
     from matplotlib.figure import Figure
 
@@ -494,6 +561,7 @@ FIGURES = {
     "fretting_loop": fig_fretting_loop,
     "boussinesq_punch": fig_boussinesq,
     "two_spheres_shear": fig_two_spheres_shear,
+    "curvature_shear": fig_curvature_shear,
     "cattaneo_mindlin_resolutions": fig_cattaneo_mindlin_resolutions,
 }
 

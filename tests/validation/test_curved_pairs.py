@@ -31,16 +31,13 @@ Tiers and why:
   crossed cylinders (measured 5.5e-5).  Seat: measured 2.7e-4 (tri6),
   asserted 4e-4, a regression bound (the issue's 1e-4 is for identical
   bodies; the seat's two surfaces are not).
-* max |q| / p0: the issue's 0.01 is NOT met by either pair at an affordable
-  mesh; asserted are regression bounds about 15 % above the measured
-  values.  Crossed cylinders 0.0139 at h = 0.1 (0.0158 at h = 0.07: it
-  does not fall on refinement; with R = 20 mm at the same a/h, a/R halved,
-  most nodes carry <= 0.009 and one 0.018), asserted 0.016; seat (tri6)
-  0.0297, asserted 0.034 (tri3: 0.0235).  As for the convex spheres of
-  R = 10 and 20 mm (0.020 p0, test_frame_between.py), the shear sits at
-  stuck nodes at r = 0.5-0.9 a; whether it is the O(a/R) coupling of
-  curved bodies that small-slope theory drops or discretization is open
-  (docs/validation.md, "Crossed cylinders and a conforming seat").
+* max |q| / p0 above 0.01 is the physics, not an error: the shear of two
+  curved bodies that are not mirror images converges under refinement to
+  a field of the pair's symmetry, first order in a/R (docs/validation.md,
+  "What the shear between curved bodies is"; asserted below by its pattern
+  and its a/R scaling).  Regression bounds about 15 % above the measured
+  max: crossed cylinders 0.0139 at h = 0.1, asserted 0.016; seat (tri6)
+  0.0297, asserted 0.034 (tri3: 0.0235).
 """
 
 from __future__ import annotations
@@ -108,6 +105,36 @@ def test_crossed_cylinders_friction(cylinders):
     assert dn <= 1e-4, f"normal force with friction differs by {dn:.2e}"
     # regression bound (measured 0.0139); the issue's 0.01 p0 is not met
     assert q <= 0.016, f"max |q| = {q:.4f} p0 between identical crossed cylinders"
+
+
+def test_crossed_cylinders_shear_is_the_curvature_coupling(cylinders):
+    """The shear between the crossed cylinders is the first-order effect of
+    the two bodies' different curvatures, not discretization error:
+    * its pattern is the saddle field (x, -y) that their half-turn symmetry
+      allows and their curvatures (1/R across one axis, across the other
+      for the other body) call for: that pattern, with an amplitude fitted
+      per ring of radius, carries at least 80 % of |q|^2 (measured 88 %; a
+      shear from node-to-node discretization noise has about 0 %);
+    * at the same a/h (5.6) with R doubled (a/R 0.056 -> 0.028, approach
+      halved so a stays 0.56 mm) its root mean square falls by 1.4-2.2
+      (measured 1.67; at h = 0.05, 1.80): first order in a/R (second order
+      would give 4, an error of the discretization at fixed a/h 1);
+    * (docs/validation.md, not asserted here: 27-40 s each) at fixed a/R
+      it converges under refinement, rms 0.0067 / 0.0072 / 0.0074 p0 at
+      a/h = 5.6 / 8.1 / 11.3.
+    The largest |q| is one node's value near the stick-slip front and moves
+    with the mesh (R = 20: 0.0181 here, 0.0106 at approach 0.0155), so the
+    pattern and the rms are asserted, not it."""
+    _, fric = cylinders
+    share, rms = curved.shear_pattern(fric.frame, "saddle")
+    wide = cases.SphereOnBlock(radius=2 * SETUP.radius)
+    half = _cylinders(friction_coefficient=MU, setup=wide, approach=0.03 / 2).solve(OPTIONS)
+    share2, rms2 = curved.shear_pattern(half.frame, "saddle")
+    print(f"crossed cylinders: saddle share {share:.3f} rms {rms:.4f} p0; R = 20: share "
+          f"{share2:.3f} rms {rms2:.4f} p0, rms ratio {rms / rms2:.2f}")
+    assert half.converged and half.frame.counts()["stick"] > 50
+    assert share >= 0.8, f"only {share:.1%} of the shear is the saddle pattern"
+    assert 1.4 <= rms / rms2 <= 2.2, f"rms shear {rms:.4f} -> {rms2:.4f} p0 when a/R halves"
 
 
 def test_crossed_cylinders_body_order(cylinders):

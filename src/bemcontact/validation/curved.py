@@ -22,6 +22,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..bem import Displacement, ElasticBody, Fixed, LinearElastic
 from ..contact import ContactPair, ContactProblem
 from ..errors import ConfigError
@@ -133,4 +135,53 @@ def sphere_in_seat(
     return _problem(lower, upper, s, approach, friction_coefficient, frame_on, search, swap)
 
 
-__all__ = ["crossed_cylinders", "sphere_in_seat", "seat_effective_radius", "SEARCH_MARGIN"]
+#: The tangential traction patterns the symmetries of the curved pairs allow
+#: (unit fields in polar coordinates about the contact point): ``"radial"``,
+#: e_r, the only one an axisymmetric pair (two spheres, a ball in a seat)
+#: allows; ``"saddle"``, cos 2θ e_r − sin 2θ e_θ (the field (x, −y) / r),
+#: the one the crossed cylinders' half-turn about the line x = y allows and
+#: their opposite curvatures along x and y call for.
+SHEAR_PATTERNS = ("radial", "saddle")
+
+
+def shear_pattern(frame, pattern: str, rings: int = 8) -> tuple[float, float]:
+    """How much of the tangential traction of ``frame`` (a
+    :class:`~bemcontact.contact.results.FrameResult` whose contact plane is
+    z = 0, contact point at the origin) is the symmetric ``pattern``
+    (:data:`SHEAR_PATTERNS`) with an amplitude that depends on the radius
+    only, and its size.  Over the closed nodes, weighted by their areas:
+    the amplitude g is fitted in ``rings`` equal rings of radius (the mean
+    of q . e per ring); returns (share, rms) with share = 1 − |q − g e|² /
+    |q|² (1: all of it is the pattern; a field without the pattern, such as
+    noise from node to node, gives about 0) and rms = the root mean square
+    of |q| divided by the peak pressure."""
+    if pattern not in SHEAR_PATTERNS:
+        raise ConfigError(f"shear_pattern: pattern must be one of {SHEAR_PATTERNS}, got {pattern!r}")
+    closed = frame.pressure > 0
+    if closed.sum() < 2 * rings:
+        raise ConfigError(f"shear_pattern: {int(closed.sum())} closed nodes, fewer than 2 per ring")
+    x, y = frame.points[closed, 0], frame.points[closed, 1]
+    q = frame.tangential_traction[closed][:, :2]
+    w = frame.weights[closed]
+    r, th = np.hypot(x, y), np.arctan2(y, x)
+    er = np.stack([np.cos(th), np.sin(th)], axis=1)
+    if pattern == "radial":
+        e = er
+    else:
+        et = np.stack([-np.sin(th), np.cos(th)], axis=1)
+        e = er * np.cos(2 * th)[:, None] - et * np.sin(2 * th)[:, None]
+    c = np.einsum("ij,ij->i", q, e)
+    ring = np.minimum((r / r.max() * rings).astype(int), rings - 1)
+    g = np.zeros_like(c)
+    for k in np.unique(ring):
+        s = ring == k
+        g[s] = np.sum(w[s] * c[s]) / np.sum(w[s])
+    q2 = np.sum(w * np.einsum("ij,ij->i", q, q))
+    rest = q - g[:, None] * e
+    share = 1.0 - np.sum(w * np.einsum("ij,ij->i", rest, rest)) / q2 if q2 > 0 else 0.0
+    rms = float(np.sqrt(q2 / np.sum(w)) / frame.pressure.max())
+    return float(share), rms
+
+
+__all__ = ["crossed_cylinders", "sphere_in_seat", "seat_effective_radius", "shear_pattern",
+           "SHEAR_PATTERNS", "SEARCH_MARGIN"]
