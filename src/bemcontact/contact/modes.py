@@ -24,10 +24,11 @@ import scipy.sparse.linalg
 #: (bounds its temporary memory to a few such blocks).
 CHUNK = 2048
 #: Largest contact surface (nodes) whose mass :meth:`TractionModes.right`
-#: factors densely: a dense Cholesky solve with many right-hand sides runs
+#: inverts densely: a dense Cholesky solve with many right-hand sides runs
 #: at BLAS-3 speed, 3.5x faster than SuperLU's sparse one at 1,197 nodes
-#: (1.07 s against 3.73 s for 15,777 right-hand sides, measured) and still
-#: ahead at a few thousand; above this the n^2 memory decides (288 MB).
+#: (1.07 s against 3.73 s for 15,777 right-hand sides, measured), and a
+#: product with the dense inverse twice as fast again; above this the n^2
+#: memory decides (288 MB).
 DENSE_MASS = 6000
 
 
@@ -76,11 +77,18 @@ class TractionModes:
             out = np.empty((G.shape[0], self.size))
         minv = self._minv
         if self.n <= DENSE_MASS:
+            # M^-1 itself (M is SPD and well conditioned), applied by GEMM:
+            # twice the speed of cho_solve's triangular solves on the same
+            # block, and its C-ordered result reshapes without a copy
+            # (Cattaneo-Mindlin a/h = 25, both bodies: 31.3 s -> see
+            # docs/benchmarks.md)
             chol = scipy.linalg.cho_factor(self._M.toarray())
+            inverse = scipy.linalg.cho_solve(chol, np.eye(self.n))
+            del chol
 
             def minv(F):
                 r = F.shape[1]
-                return scipy.linalg.cho_solve(chol, F.reshape(self.n, 3 * r)).reshape(3 * self.n, r)
+                return (inverse @ F.reshape(self.n, 3 * r)).reshape(3 * self.n, r)
 
         for s in range(0, G.shape[0], CHUNK):
             g = np.ascontiguousarray(G[s : s + CHUNK].T)  # (3n, r)

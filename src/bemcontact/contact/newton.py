@@ -110,7 +110,7 @@ class NewtonSteps:
             # LU below then diagnoses
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-                lu = scipy.linalg.lu_factor(A.astype(np.float32), check_finite=False)
+                lu = _factor(A, single=True)
             self.stats["factorizations"] += 1
             d = np.abs(np.diag(lu[0]))
             if np.isfinite(d).all() and d.min() > 1e-7 * d.max():
@@ -123,7 +123,9 @@ class NewtonSteps:
             with warnings.catch_warnings():
                 # exact singularity is diagnosed below, with a better message
                 warnings.simplefilter("ignore", scipy.linalg.LinAlgWarning)
-                lu = scipy.linalg.lu_factor(A, check_finite=True, overwrite_a=True)
+                if not np.all(np.isfinite(A)):
+                    raise ValueError("array must not contain infs or NaNs")
+                lu = _factor(A)
         except (ValueError, np.linalg.LinAlgError) as exc:
             return f"the Newton matrix is not usable ({exc})"
         self.stats["factorizations"] += 1
@@ -131,7 +133,7 @@ class NewtonSteps:
         if d.min() <= 1e-13 * d.max():
             return SINGULAR
         self._last = (keep, lu)
-        dz[keep] = scipy.linalg.lu_solve(lu, b)
+        dz[keep] = scipy.linalg.lu_solve(lu, b, check_finite=False)
         return dz
 
     def _krylov(self, A, b, keep, old, lu, forcing):
@@ -141,7 +143,8 @@ class NewtonSteps:
         dtype = lu[0].dtype
 
         def solve(v):
-            return scipy.linalg.lu_solve(lu, v.astype(dtype, copy=False)).astype(float, copy=False)
+            return scipy.linalg.lu_solve(lu, v.astype(dtype, copy=False),
+                                        check_finite=False).astype(float, copy=False)
 
         if np.array_equal(old, keep):
             apply = solve
@@ -180,6 +183,16 @@ class NewtonSteps:
             return x
         self.stats["krylov_failures"] += 1
         return None
+
+
+def _factor(A: np.ndarray, single: bool = False) -> tuple:
+    """LU factors (lu, piv) of the C-ordered Newton matrix A
+    (:meth:`~bemcontact.contact.interface.InterfaceSystem.newton_system`
+    builds it row by row), in single precision with ``single``: one
+    transposing copy into the Fortran order LAPACK factors in place (0.4 s
+    for 8,100 unknowns, against 3 s more to build A in Fortran order)."""
+    M = A.astype(np.float32 if single else float, order="F", copy=not A.flags.f_contiguous)
+    return scipy.linalg.lu_factor(M, check_finite=False, overwrite_a=True)
 
 
 def newton_direction(A: np.ndarray, b: np.ndarray, keep: np.ndarray,

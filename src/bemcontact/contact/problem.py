@@ -564,6 +564,7 @@ class ContactProblem:
                 res.label = step.label
                 history.append(res)
         t4 = time.perf_counter()
+        system.release()
         if report is not None and failed is None:
             its = sum(r.iterations for r in records)
             report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
