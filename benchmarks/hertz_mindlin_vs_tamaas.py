@@ -100,6 +100,13 @@ def bemcontact_side(a_over_h: float) -> dict:
     inner = r < 0.9 * a
     q_l2 = cases.weighted_l2(qx[inner], ref.cattaneo_mindlin_traction(r[inner], hz2, Q[2], MU), w[inner])
     c_exact = ref.cattaneo_mindlin_stick_radius(a, Q[2], MU, P2)
+
+    def p_dev(frame, hz_):
+        """largest |p - p_Hertz| / p0 inside 0.95 a (issue 22's "bump" measure)"""
+        rr, pp, *_ = cases.radial_profile(frame)
+        inside = rr < 0.95 * hz_.contact_radius
+        return float(np.abs(pp[inside] - hz_.pressure(rr[inside])).max() / hz_.peak_pressure)
+
     nodes = [b.discretization.points.shape[0] for b in prob.bodies]
     return {
         "code": "bemcontact", "a_over_h": hz.contact_radius / h, "h": h,
@@ -108,6 +115,7 @@ def bemcontact_side(a_over_h: float) -> dict:
         "q_ratio": Q[2] / (MU * P2),
         "c_err": cases.stick_radius(top.frame) / c_exact - 1, "q_l2": q_l2,
         "dt_err": d_num / d_exact - 1,
+        "p_dev_095": p_dev(res.history[0].frame, hz), "p_dev_095_q": p_dev(top.frame, hz2),
         "newton_iterations": [x.iterations for x in res.steps],
         "factorizations": [x.factorizations for x in res.steps],
         "krylov_iterations": [x.krylov_iterations for x in res.steps],
