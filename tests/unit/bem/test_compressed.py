@@ -11,6 +11,7 @@ from bemcontact import mesh as M
 from bemcontact import bem as O
 from bemcontact.errors import ConfigError
 from bemcontact.bem import CompressedSystem
+from bemcontact.bem.compressed import MATVEC_COLUMNS
 from bemcontact.linalg import HMatrixOptions, LinearSolverOptions
 
 MU, NU = 1.0, 0.3
@@ -50,6 +51,13 @@ def test_matvec_and_bw_match_dense_to_eps(cube, eps):
     # one vector (not a block of columns) gives the same
     y = op.matvec(x)
     np.testing.assert_allclose(op.matvec(x[:, 0]), y[:, 0], rtol=0, atol=1e-13 * np.abs(y).max())
+    # more columns than one compiled call takes (MATVEC_COLUMNS), from a
+    # Fortran-ordered block: each column as its own product, to round-off
+    many = np.asfortranarray(rng.standard_normal((op.n, MATVEC_COLUMNS + 7)))
+    Y = op.matvec(many)
+    for j in (0, MATVEC_COLUMNS - 1, MATVEC_COLUMNS, MATVEC_COLUMNS + 6):
+        np.testing.assert_allclose(Y[:, j], op.matvec(many[:, j].copy()), rtol=0,
+                                   atol=1e-13 * np.abs(Y[:, j]).max())
 
 
 def test_aca_blocks_meet_their_tolerance(cube):
