@@ -51,15 +51,22 @@ TWO_CUBES = {
 }
 
 
+def _run(problem_file: str, out) -> dict:
+    """``bemcontact run examples/<problem_file> --out <out> --quiet`` (must
+    succeed); its summary.json."""
+    subprocess.run(
+        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / problem_file),
+         "--out", str(out), "--quiet"],
+        check=True, capture_output=True, text=True,
+    )
+    return json.loads((out / "summary.json").read_text())
+
+
 @pytest.fixture(scope="module")
 def two_cubes_out(tmp_path_factory):
     base = tmp_path_factory.mktemp("two_cubes")
     for case in TWO_CUBES:
-        subprocess.run(
-            [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / f"two_cubes_{case}.toml"),
-             "--out", str(base / case), "--quiet"],
-            check=True, capture_output=True, text=True,
-        )
+        _run(f"two_cubes_{case}.toml", base / case)
     return base
 
 
@@ -163,12 +170,7 @@ def test_hertz_sphere_on_block_problem_file(tmp_path):
     from bemcontact.validation.reference.contact import effective_modulus, hertz
 
     out = tmp_path / "hertz"
-    subprocess.run(
-        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / "hertz_sphere_on_block.toml"),
-         "--out", str(out), "--quiet"],
-        check=True, capture_output=True, text=True,
-    )
-    s = json.loads((out / "summary.json").read_text())
+    s = _run("hertz_sphere_on_block.toml", out)
     assert s["converged"] is True
     P = s["normal_force"]
     assert P == pytest.approx(2646.85, rel=1e-3)
@@ -198,12 +200,7 @@ def test_thrust_bearing_ball_assembly(tmp_path):
     from bemcontact.validation.reference.contact import effective_modulus, hertz
 
     out = tmp_path / "bearing"
-    subprocess.run(
-        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / "thrust_bearing_ball.toml"),
-         "--out", str(out), "--quiet"],
-        check=True, capture_output=True, text=True,
-    )
-    s = json.loads((out / "summary.json").read_text())
+    s = _run("thrust_bearing_ball.toml", out)
     assert s["converged"] is True
     pairs = s["pairs"]
     assert [p["bodies"] for p in pairs] == [["lower", "ball"], ["ball", "upper"]]
@@ -230,12 +227,7 @@ def test_block_from_mesh_file(tmp_path):
     from bemcontact.output.read import read_csv
 
     out = tmp_path / "block"
-    subprocess.run(
-        [sys.executable, "-m", "bemcontact", "run", str(EXAMPLES / "block_from_mesh_file.toml"),
-         "--out", str(out), "--quiet"],
-        check=True, capture_output=True, text=True,
-    )
-    s = json.loads((out / "summary.json").read_text())
+    s = _run("block_from_mesh_file.toml", out)
     assert s["converged"] is True
     P = s["normal_force"]
     assert P == pytest.approx(228.347, rel=1e-3)

@@ -67,6 +67,15 @@ def solved(both):
     return both[0]
 
 
+def _radial_l2(res, h) -> float:
+    """Weighted L2 error (r < 0.9a) of the radial shear against Spence's."""
+    fr = res.frame
+    r, qr = ds.radial_shear(fr)
+    inner = r < 0.9 * h.contact_radius
+    exact = ref.spence_traction(r[inner], h.contact_radius, h.peak_pressure, SETUP.beta, MU)
+    return cases.weighted_l2(qr[inner], exact, fr.weights[inner])
+
+
 def test_first_touch_gives_the_last_ring_its_shear(both):
     """closing = "first_touch" (SolverOptions): the nodes closing in an
     increment take friction from their estimated first touch, so the ring
@@ -78,9 +87,7 @@ def test_first_touch_gives_the_last_ring_its_shear(both):
     res, h = both[1]
     fr = res.frame
     r, qr = ds.radial_shear(fr)
-    inner = r < 0.9 * h.contact_radius
-    exact = ref.spence_traction(r[inner], h.contact_radius, h.peak_pressure, SETUP.beta, MU)
-    e = cases.weighted_l2(qr[inner], exact, fr.weights[inner])
+    e = _radial_l2(res, h)
     print(f"first_touch: radial traction L2 (r < 0.9a) = {e:.4f}")
     assert e <= 0.04
     ring = (fr.state == SLIP) & (r > np.sqrt((INCREMENTS - 1) / INCREMENTS) * h.contact_radius)
@@ -106,11 +113,7 @@ def test_stick_radius(solved):
 
 def test_radial_traction_profile(solved):
     res, h = solved
-    fr = res.frame
-    r, qr = ds.radial_shear(fr)
-    inner = r < 0.9 * h.contact_radius
-    exact = ref.spence_traction(r[inner], h.contact_radius, h.peak_pressure, SETUP.beta, MU)
-    e = cases.weighted_l2(qr[inner], exact, fr.weights[inner])
+    e = _radial_l2(res, h)
     print(f"radial traction L2 (r < 0.9a) = {e:.4f}")
     assert e <= 0.15
 
