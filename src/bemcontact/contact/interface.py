@@ -418,7 +418,7 @@ class InterfaceSystem:
         # C order, as dk: each row a combination of three rows of dk, written
         # contiguously (into a Fortran-ordered J the same combination took
         # 10x longer: 3.3 s against 0.34 s for 8,100 closed dofs); the
-        # Newton steps factor its transpose in place (NewtonSteps)
+        # Newton steps copy it once into LAPACK's Fortran order (NewtonSteps)
         J = np.empty((3 * mc + self._eq.shape[0], cols.size))
         jk = Jk[closed]
         for a in range(3):

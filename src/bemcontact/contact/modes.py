@@ -80,8 +80,7 @@ class TractionModes:
             # M^-1 itself (M is SPD and well conditioned), applied by GEMM:
             # twice the speed of cho_solve's triangular solves on the same
             # block, and its C-ordered result reshapes without a copy
-            # (Cattaneo-Mindlin a/h = 25, both bodies: 31.3 s -> see
-            # docs/benchmarks.md)
+            # (Cattaneo-Mindlin a/h = 25, both bodies: 31 -> about 20 s)
             chol = scipy.linalg.cho_factor(self._M.toarray())
             inverse = scipy.linalg.cho_solve(chol, np.eye(self.n))
             del chol

@@ -164,12 +164,9 @@ def shear_pattern(frame, pattern: str, rings: int = 8) -> tuple[float, float]:
     q = frame.tangential_traction[closed][:, :2]
     w = frame.weights[closed]
     r, th = np.hypot(x, y), np.arctan2(y, x)
-    er = np.stack([np.cos(th), np.sin(th)], axis=1)
-    if pattern == "radial":
-        e = er
-    else:
-        et = np.stack([-np.sin(th), np.cos(th)], axis=1)
-        e = er * np.cos(2 * th)[:, None] - et * np.sin(2 * th)[:, None]
+    # e_r, or cos 2θ e_r − sin 2θ e_θ = (cos θ, −sin θ)
+    sign = 1.0 if pattern == "radial" else -1.0
+    e = np.stack([np.cos(th), sign * np.sin(th)], axis=1)
     c = np.einsum("ij,ij->i", q, e)
     ring = np.minimum((r / r.max() * rings).astype(int), rings - 1)
     g = np.zeros_like(c)
