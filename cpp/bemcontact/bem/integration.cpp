@@ -1,5 +1,6 @@
 // Element integration (see integration.hpp).
 #include "bem/integration.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -323,8 +324,9 @@ void singular_rule(const Element& e, const double* xi0, const QuadratureParams& 
 
 std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, int threads) {
   std::vector<Element> els(m.n_elements);
+  ExceptionGuard guard;
 #pragma omp parallel for schedule(static) num_threads(threads)
-  for (int64_t ie = 0; ie < m.n_elements; ++ie) {
+  for (int64_t ie = 0; ie < m.n_elements; ++ie) guard.run([&] {
     Element& e = els[ie];
     e.type = m.etype[ie];
     e.n = nodes_per_element(e.type);
@@ -372,7 +374,8 @@ std::vector<Element> prepare_elements(const MeshView& m, int max_cached_order, i
       }
       map_rule(e, r, e.cache[o]);
     }
-  }
+  });
+  guard.rethrow();
   return els;
 }
 

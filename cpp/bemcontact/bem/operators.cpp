@@ -1,5 +1,6 @@
 // Assembly of H, G and the mixed system (see operators.hpp).
 #include "bem/operators.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -46,9 +47,12 @@ void assemble_influence(const MeshView& m, const double* points, int64_t n_point
   const std::vector<Element> els = prepare_elements(m, std::min(q.max_order, kMaxCachedOrder), threads);
   const Kelvin K(shear_modulus, nu);
   const int64_t ncol = 3 * n_points;
+  ExceptionGuard guard;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads)
-  for (int64_t i = 0; i < n_points; ++i)
+  for (int64_t i = 0; i < n_points; ++i) guard.run([&] {
     influence_rows(els, i, points + 3 * i, K, q, ncol, H + 3 * i * ncol, G + 3 * i * ncol);
+  });
+  guard.rethrow();
 }
 
 void assemble_system(const MeshView& m, const double* points, int64_t n_points,
@@ -63,11 +67,16 @@ void assemble_system(const MeshView& m, const double* points, int64_t n_points,
   // cache line).
   constexpr int64_t kRowChunk = 16;
   const int64_t nchunks = (n_points + kRowChunk - 1) / kRowChunk;
+  ExceptionGuard guard;
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<double> Hrow(3 * kRowChunk * ncol), Grow(3 * kRowChunk * ncol);
+    std::vector<double> Hrow, Grow;
+    guard.run([&] {
+      Hrow.resize(3 * kRowChunk * ncol);
+      Grow.resize(3 * kRowChunk * ncol);
+    });
 #pragma omp for schedule(dynamic, 1)
-    for (int64_t ch = 0; ch < nchunks; ++ch) {
+    for (int64_t ch = 0; ch < nchunks; ++ch) guard.run([&] {
       const int64_t i0 = ch * kRowChunk, i1 = std::min(n_points, i0 + kRowChunk);
       const int64_t nr = 3 * (i1 - i0), row0 = 3 * i0;
       for (int64_t i = i0; i < i1; ++i)
@@ -100,8 +109,9 @@ void assemble_system(const MeshView& m, const double* points, int64_t n_points,
           BC[row * nb + t] = known_u[c] ? -h[c] : g[c];
         }
       }
-    }
+    });
   }
+  guard.rethrow();
 }
 
 }  // namespace bemcontact

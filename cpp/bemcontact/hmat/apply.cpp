@@ -3,7 +3,7 @@
 #include <vector>
 
 #include "hmat/hmatrix.hpp"
-#include "hmat/threads.hpp"
+#include "parallel.hpp"
 #include "la/dot.hpp"
 
 namespace bemcontact {
@@ -65,15 +65,16 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
   const int nt = std::max(threads, 1);
   std::vector<std::vector<double>> acc(nt);
   const int64_t nb = static_cast<int64_t>(blocks_.size());
+  ExceptionGuard guard;
 #pragma omp parallel num_threads(nt)
   {
     const int tid = thread_num();
     std::vector<double>& yt = acc[tid];
-    yt.assign(n3 * k, 0.0);
+    guard.run([&] { yt.assign(n3 * k, 0.0); });
     std::vector<double> t;
     std::vector<float> uf, vf;
 #pragma omp for schedule(dynamic, 4)
-    for (int64_t bi = 0; bi < nb; ++bi) {
+    for (int64_t bi = 0; bi < nb; ++bi) guard.run([&] {
       const HBlock& B = blocks_[bi];
       const HCluster& tau = clusters_[B.tau];
       const HCluster& sig = clusters_[B.sigma];
@@ -104,8 +105,9 @@ void HMatrix::apply(const double* x, double* y, int64_t k, int threads) const {
           lowrank_apply(uf.data(), vf.data(), B.kh(), mr, nc, xs, yo, k, t, B.sh.data());
         }
       }
-    }
+    });
   }
+  guard.rethrow();
   for (int th = 1; th < nt; ++th)
     if (!acc[th].empty())
       for (int64_t t2 = 0; t2 < n3 * k; ++t2) acc[0][t2] += acc[th][t2];

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hmat/hmatrix.hpp"
+#include "parallel.hpp"
 
 namespace bemcontact {
 
@@ -155,8 +156,9 @@ void HMatrix::g_columns(const int64_t* cols, int64_t nc, double* out, int thread
   std::sort(elems.begin(), elems.end());
   elems.erase(std::unique(elems.begin(), elems.end()), elems.end());
   std::fill(out, out + 3 * n_ * nc, 0.0);
+  ExceptionGuard guard;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(std::max(threads, 1))
-  for (int64_t p = 0; p < n_; ++p) {
+  for (int64_t p = 0; p < n_; ++p) guard.run([&] {
     const double* x = pts_.data() + 3 * p;
     const int64_t i = perm_[p];
     double He[3 * 3 * kMaxNodes], Ge[3 * 3 * kMaxNodes];
@@ -172,7 +174,8 @@ void HMatrix::g_columns(const int64_t* cols, int64_t nc, double* out, int thread
           for (int r = 0; r < 3; ++r) out[(3 * i + r) * nc + col] += Ge[r * ld + 3 * k + c];
         }
     }
-  }
+  });
+  guard.rethrow();
 }
 
 }  // namespace bemcontact

@@ -1,6 +1,7 @@
 // H-LU factorization in hierarchical-matrix arithmetic (see hlu.hpp).
 #include "hmat/hlu.hpp"
 #include "la/lowrank.hpp"
+#include "parallel.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -47,6 +48,9 @@ struct HArith {
   const Lapack& lapack;
   const Blas& blas;
   double eps;
+  // keeps an exception inside the task that raised it (parallel.hpp); the
+  // code after each taskwait raises it again
+  ExceptionGuard& guard;
 
   // blocks worth a task of their own (smaller ones run in the calling task)
   static bool big(const HNode& a) { return a.m * a.n >= 300 * 300; }
@@ -273,9 +277,12 @@ struct HArith {
         for (int i = 0; i < 2; ++i)
           for (int j = 0; j < 2; ++j) {
 #pragma omp task if (par) default(shared) firstprivate(i, j)
-            for (int l = 0; l < 2; ++l) gemm_node(c.c(i, j), a.c(i, l), b.c(l, j), alpha);
+            guard.run([&] {
+              for (int l = 0; l < 2; ++l) gemm_node(c.c(i, j), a.c(i, l), b.c(l, j), alpha);
+            });
           }
 #pragma omp taskwait
+        guard.rethrow();
       } else {
         std::vector<double> Bd = dense(b), P(a.m * b.n, 0.0);
         mult(a, 'N', Mat{Bd.data(), b.m, b.n, b.m}, Mat{P.data(), a.m, b.n, a.m}, 1.0);
@@ -358,13 +365,14 @@ struct HArith {
       const bool par = big(x);
       for (int j = 0; j < 2; ++j) {  // the two block columns are independent
 #pragma omp task if (par) default(shared) firstprivate(j)
-        {
+        guard.run([&] {
           trsm_lower(d.c(0, 0), x.c(0, j));
           gemm_node(x.c(1, j), d.c(1, 0), x.c(0, j), -1.0);
           trsm_lower(d.c(1, 1), x.c(1, j));
-        }
+        });
       }
 #pragma omp taskwait
+      guard.rethrow();
     }
   }
 
@@ -386,13 +394,14 @@ struct HArith {
       const bool par = big(x);
       for (int i = 0; i < 2; ++i) {  // the two block rows are independent
 #pragma omp task if (par) default(shared) firstprivate(i)
-        {
+        guard.run([&] {
           trsm_upper_right(d.c(0, 0), x.c(i, 0));
           gemm_node(x.c(i, 1), x.c(i, 0), d.c(0, 1), -1.0);
           trsm_upper_right(d.c(1, 1), x.c(i, 1));
-        }
+        });
       }
 #pragma omp taskwait
+      guard.rethrow();
     }
   }
 };
@@ -436,8 +445,8 @@ std::unique_ptr<HNode> HLU::build(int tau, int sigma, const HMatrix& h,
   return node;
 }
 
-void HLU::lu(HNode& a) const {
-  HArith ar{clusters_, lapack_, blas_, eps_};
+void HLU::lu(HNode& a, ExceptionGuard& guard) const {
+  HArith ar{clusters_, lapack_, blas_, eps_, guard};
   if (a.kind == kFull) {
     int m = I(a.m), info = 0;
     a.piv.resize(a.m);
@@ -449,15 +458,16 @@ void HLU::lu(HNode& a) const {
     return;
   }
   if (a.kind != kH) throw std::logic_error("H-LU: a diagonal block is low rank");
-  lu(a.c(0, 0));
+  lu(a.c(0, 0), guard);
   const bool par = HArith::big(a.c(0, 1));
 #pragma omp task if (par) default(shared)
-  ar.trsm_lower(a.c(0, 0), a.c(0, 1));
+  guard.run([&] { ar.trsm_lower(a.c(0, 0), a.c(0, 1)); });
 #pragma omp task if (par) default(shared)
-  ar.trsm_upper_right(a.c(0, 0), a.c(1, 0));
+  guard.run([&] { ar.trsm_upper_right(a.c(0, 0), a.c(1, 0)); });
 #pragma omp taskwait
+  guard.rethrow();
   ar.gemm_node(a.c(1, 1), a.c(1, 0), a.c(0, 1), -1.0);
-  lu(a.c(1, 1));
+  lu(a.c(1, 1), guard);
 }
 
 HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
@@ -477,18 +487,15 @@ HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
   // (a coarse preconditioner) first truncates them to its own eps, so the
   // updates below work on the smaller ranks.
   if (eps_ > h.params().eps) {
-    std::exception_ptr err;
+    ExceptionGuard guard;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(std::max(threads, 1))
     for (int64_t q = 0; q < static_cast<int64_t>(leaves_.size()); ++q) {
       HNode& a = *leaves_[q];
-      try {
+      guard.run([&] {
         if (a.kind == kRk) truncate_lowrank(a.U, a.V, a.m, a.n, a.k, eps_, lapack_);
-      } catch (...) {
-#pragma omp critical(hlu_build)
-        if (!err) err = std::current_exception();
-      }
+      });
     }
-    if (err) std::rethrow_exception(err);
+    guard.rethrow();
   }
   leaves_.clear();
   leaves_.shrink_to_fit();
@@ -501,21 +508,15 @@ HLU::HLU(const HMatrix& h, const Lapack& lapack, const Blas& blas, double eps,
           up[l * n3 + 3 * p + c] = U[(3 * perm_[p] + c) * r + l];
           vp[l * n3 + 3 * p + c] = V[(3 * perm_[p] + c) * r + l];
         }
-    HArith ar{clusters_, lapack_, blas_, eps_};
+    ExceptionGuard guard;
+    HArith ar{clusters_, lapack_, blas_, eps_, guard};
     ar.add_rk(*root_, up.data(), n3, vp.data(), n3, static_cast<int>(r), 1.0);
   }
-  // exceptions must not leave an OpenMP region: keep the first and rethrow
-  std::exception_ptr error;
+  ExceptionGuard guard;
 #pragma omp parallel num_threads(std::max(threads, 1))
 #pragma omp single
-  {
-    try {
-      lu(*root_);
-    } catch (...) {
-      error = std::current_exception();
-    }
-  }
-  if (error) std::rethrow_exception(error);
+  guard.run([&] { lu(*root_, guard); });
+  guard.rethrow();
   factor_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
@@ -527,7 +528,8 @@ void HLU::solve(double* b, int64_t k) const {
       const double* src = b + (3 * perm_[p] + c) * k;
       for (int64_t q = 0; q < k; ++q) w[q * n3 + 3 * p + c] = src[q];
     }
-  HArith ar{clusters_, lapack_, blas_, eps_};
+  ExceptionGuard guard;
+  HArith ar{clusters_, lapack_, blas_, eps_, guard};
   const Mat W{w.data(), n3, k, n3};
   ar.solve_lower(*root_, W);
   ar.solve_upper(*root_, W);

@@ -20,6 +20,7 @@
 
 #include "hmat/hmatrix.hpp"
 #include "la/lapack.hpp"
+#include "parallel.hpp"
 
 namespace bemcontact {
 
@@ -44,7 +45,7 @@ class HLU {
  private:
   std::unique_ptr<HNode> build(int tau, int sigma, const HMatrix& h,
                                const std::vector<int64_t>& index);
-  void lu(HNode& a) const;
+  void lu(HNode& a, ExceptionGuard& guard) const;
 
   int64_t n_ = 0;
   std::vector<int64_t> perm_;

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <numeric>
 
-#include "hmat/threads.hpp"
+#include "parallel.hpp"
 
 namespace bemcontact {
 
@@ -104,13 +104,16 @@ void HMatrix::fill_blocks(int threads, std::vector<double>& bw, std::vector<doub
   const int nt = std::max(threads, 1);
   // thread-private B W (3N x s) and H row sums (3N x 3), permuted order
   std::vector<std::vector<double>> bw_t(nt), rs_t(nt);
+  ExceptionGuard guard;
 #pragma omp parallel num_threads(nt)
   {
     const int tid = thread_num();
-    bw_t[tid].assign(3 * n_ * s_, 0.0);
-    rs_t[tid].assign(9 * n_, 0.0);
+    guard.run([&] {
+      bw_t[tid].assign(3 * n_ * s_, 0.0);
+      rs_t[tid].assign(9 * n_, 0.0);
+    });
 #pragma omp for schedule(dynamic, 1)
-    for (int64_t t = 0; t < nb; ++t) {
+    for (int64_t t = 0; t < nb; ++t) guard.run([&] {
       HBlock& b = blocks_[order[t]];
       const auto tb = std::chrono::steady_clock::now();
       const bool was_dense = b.rank < 0;
@@ -128,8 +131,9 @@ void HMatrix::fill_blocks(int threads, std::vector<double>& bw, std::vector<doub
 #pragma omp atomic
         aca_s_ += dt;
       }
-    }
+    });
   }
+  guard.rethrow();
   // sum the threads in a fixed order (results independent of the schedule up
   // to the order of two-term sums)
   for (int th = 1; th < nt; ++th) {
@@ -179,11 +183,13 @@ void HMatrix::estimate_norms(int threads) {
   std::vector<int64_t> all(els_.size());
   std::iota(all.begin(), all.end(), 0);
   std::vector<double> sh(ns, 0.0), sg(ns, 0.0);
+  ExceptionGuard guard;
 #pragma omp parallel num_threads(std::max(threads, 1))
   {
-    std::vector<double> row(3 * 6 * n_);
+    std::vector<double> row;
+    guard.run([&] { row.resize(3 * 6 * n_); });
 #pragma omp for schedule(dynamic, 1)
-    for (int64_t t = 0; t < ns; ++t) {
+    for (int64_t t = 0; t < ns; ++t) guard.run([&] {
       const int64_t p = (2 * t + 1) * n_ / (2 * ns);
       node_rows(p, root, all, row.data());
       const int64_t nc = 3 * n_;
@@ -201,8 +207,9 @@ void HMatrix::estimate_norms(int threads) {
       }
       sh[t] = h2;
       sg[t] = g2;
-    }
+    });
   }
+  guard.rethrow();
   double h2 = 0.0, g2 = 0.0;
   for (int64_t t = 0; t < ns; ++t) {
     h2 += sh[t];

@@ -295,3 +295,47 @@ def test_gmres_runs_with_single_threaded_blas(monkeypatch):
         sol = body.solve(threads=2, linear=lin)
     assert sol.solver["iterations"] > 5 and len(seen) > 5
     assert set(seen[:-1]) == {1}  # the last call is the residual check after GMRES
+
+
+_OUT_OF_MEMORY = """
+import resource, sys
+import numpy as np
+import bemcontact as bc
+from bemcontact.bem import CompressedSystem
+from bemcontact.linalg import HMatrixOptions
+body = bc.ElasticBody(bc.box((0, 0, 0), (1, 1, 1), 10), bc.LinearElastic(1e4, 0.3),
+                      {"zmin": bc.Fixed(), "zmax": bc.Displacement((0, 0, -0.01))})
+known_u = body.boundary_data(body.boundary_conditions)[0]
+cs = CompressedSystem(body.discretization, 1e4 / 2.6, 0.3, known_u, quadrature=body.quadrature,
+                      options=HMatrixOptions(eps=1e-6), threads=2)
+x = np.ones((cs.n, 256))
+cs.matvec(x)
+vm = next(int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmSize")) * 1024
+resource.setrlimit(resource.RLIMIT_AS, (int(vm + float(sys.argv[1]) * x.nbytes), -1))
+try:
+    cs.matvec(x)
+    print("done")
+except MemoryError as exc:
+    print("MemoryError:", exc)
+"""
+
+
+def test_memory_running_out_inside_the_threaded_product_is_a_memory_error():
+    """The compiled product allocates its per-thread accumulators inside its
+    OpenMP region; a std::bad_alloc there used to leave the region and abort
+    the process ("terminate called after throwing an instance of
+    'std::bad_alloc'", measured at 3.5 and 4.5 blocks of room).  Now every
+    address-space limit from 2.5 to 4.5 times the block's size gives either
+    the product or a MemoryError, and the process ends normally."""
+    import subprocess
+    import sys
+
+    said = []
+    for room in (2.5, 3.0, 3.5, 4.0, 4.5):
+        r = subprocess.run([sys.executable, "-c", _OUT_OF_MEMORY, str(room)],
+                           capture_output=True, text=True, timeout=120)
+        assert r.returncode == 0 and "terminate" not in r.stderr, (room, r.returncode, r.stderr)
+        said.append(r.stdout.strip())
+    assert all(s == "done" or s.startswith("MemoryError:") for s in said), said
+    # the compiled product itself ran out (not only NumPy before it)
+    assert "MemoryError: std::bad_alloc" in said, said
