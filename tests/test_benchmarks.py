@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib.util
 import pathlib
 
+import numpy as np
 import pytest
 
 BENCH = pathlib.Path(__file__).resolve().parents[1] / "benchmarks"
@@ -81,3 +82,22 @@ def test_output_formats_benchmark_smoke():
         assert r["nodes"] == 56 and r["interface_nodes"] == 16 and r["bytes"] > 0
         assert r["write_fsync_s"] >= r["write_s"] > 0
     assert "| 3 | 56 | pvd |" in mod.table(rows)
+
+
+def test_interface_compression_counts_stored_entries():
+    """benchmarks/interface_compression.py's measure on matrices whose answer
+    is known: a rank-one K has rank 1 in every far block (stored entries
+    r + c each), a random K is full rank everywhere (compression exactly 1),
+    and the sampled frame's 3 x 3 node blocks are dense near the diagonal."""
+    spec = importlib.util.spec_from_file_location("b6", BENCH / "interface_compression.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    rng = np.random.default_rng(0)
+    pts = np.column_stack([rng.random((200, 2)), np.zeros(200)])  # a flat frame
+    u = rng.standard_normal(600)
+    (one,) = mod.compression(np.outer(u, u), pts, [1e-8], leaf=16, eta=2.0)
+    assert one["far_blocks"] > 0 and one["mean_rank"] == 1.0 and one["max_rank"] == 1
+    assert one["compression"] > 1.5
+    (full,) = mod.compression(rng.standard_normal((600, 600)), pts, [1e-8], leaf=16, eta=2.0)
+    assert full["compression"] == 1.0 and full["max_rank"] > 1
+    assert 0 < full["dense_share"] < 1
