@@ -53,8 +53,11 @@ demo: install
 	$(VENV)/bin/bemcontact run examples/two_cubes_dissimilar.toml --out out/dissimilar
 	$(PY) examples/two_cubes_figure.py out/similar out/dissimilar out/two_cubes_figure1.png
 
+# a run ended by a signal (an abort prints no summary) names the test it was in
 test: install $(VENV)/.testdeps
-	$(PY) -m pytest -q
+	@BEMCONTACT_TEST_TRACE=$(VENV)/.current-test $(PY) -m pytest -q || { rc=$$?; \
+	  if [ $$rc -gt 128 ]; then echo "pytest ended by signal $$((rc - 128)) in $$(cat $(VENV)/.current-test)"; fi; \
+	  exit $$rc; }
 
 test-fast: install $(VENV)/.testdeps
 	$(PY) -m pytest -q -m "not slow"
