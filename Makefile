@@ -16,7 +16,7 @@ RUN_DEPS := numpy scipy meshio threadpoolctl rich matplotlib
 TEST_DEPS := gmsh pytest hypothesis mkdocs dask distributed
 DOC_DEPS := "mkdocstrings[python]>=1.0"
 
-.PHONY: all install demo test test-fast test-wheel wheel bench docs clean FORCE
+.PHONY: all install demo test test-all test-wheel wheel bench docs clean FORCE
 
 all: install
 
@@ -53,14 +53,18 @@ demo: install
 	$(VENV)/bin/bemcontact run examples/two_cubes_dissimilar.toml --out out/dissimilar
 	$(PY) examples/two_cubes_figure.py out/similar out/dissimilar out/two_cubes_figure1.png
 
-# a run ended by a signal (an abort prints no summary) names the test it was in
-test: install $(VENV)/.testdeps
-	@BEMCONTACT_TEST_TRACE=$(VENV)/.current-test $(PY) -m pytest -q || { rc=$$?; \
-	  if [ $$rc -gt 128 ]; then echo "pytest ended by signal $$((rc - 128)) in $$(cat $(VENV)/.current-test)"; fi; \
-	  exit $$rc; }
+# The default suite leaves out the cases marked slow (a minute or more each, the
+# suite within about 12 minutes on 2 cores); test-all runs them too.  A run ended
+# by a signal (an abort prints no summary) names the test it was in.
+PYTEST_RUN = BEMCONTACT_TEST_TRACE=$(VENV)/.current-test $(PY) -m pytest -q
+SIGNALLED = { rc=$$?; if [ $$rc -gt 128 ]; then \
+	echo "pytest ended by signal $$((rc - 128)) in $$(cat $(VENV)/.current-test)"; fi; exit $$rc; }
 
-test-fast: install $(VENV)/.testdeps
-	$(PY) -m pytest -q -m "not slow"
+test: install $(VENV)/.testdeps
+	@$(PYTEST_RUN) -m "not slow and not packaging" || $(SIGNALLED)
+
+test-all: install $(VENV)/.testdeps
+	@$(PYTEST_RUN) || $(SIGNALLED)
 
 # the packaging test: the wheel built, installed into a fresh venv (dependencies
 # from PyPI) and run there (minutes; not part of `make test`)

@@ -77,8 +77,9 @@ def test_hertz_frictionless_matches_and_converges(frictionless):
 QUADRATIC_SIZES = (0.28, 0.2, 0.14)
 
 
+@pytest.mark.slow
 def test_hertz_on_quadratic_bodies():
-    """Curved tri6 (order 2; about 55 s for the three meshes): Hertz for the
+    """Curved tri6 (order 2; 55-80 s for the three meshes, so slow): Hertz for the
     computed force, every error falling on every refinement, the finest
     within the Hertz tiers (3 % contact radius and peak, 5 % profile;
     measured -0.48 %, -0.38 %, 3.0 %), fitted rates >= 1 for the contact
