@@ -14,7 +14,9 @@ its truncated SVD at the smallest rank whose dropped singular values have a
 Frobenius norm within eps ||K||_F sqrt(|block| / |K|) (so the whole matrix is
 within eps ||K||_F), or dense when that is smaller; inadmissible leaf pairs
 are dense.  Printed per a/h and eps: the compression (dense entries / stored
-entries), the share of the dense near field, and the ranks.  This is the
+entries), the share of the dense near field, the ranks, and the ranks of the
+largest off-diagonal block at the top three bisections (what a HODLR matrix,
+or a peeling construction from random probes, needs per level).  This is the
 best any H-matrix of that block structure can do at that accuracy (optimal
 ranks), so it bounds what a compressed K can save; it says nothing yet about
 the cost of building one without the dense K.
@@ -115,6 +117,29 @@ def compression(K: np.ndarray, points: np.ndarray, eps_list, leaf: int, eta: flo
     return rows
 
 
+def weak_ranks(K: np.ndarray, points: np.ndarray, eps: float, levels: int = 3) -> list[int]:
+    """Ranks (at eps ||K||_F, the block's share as above) of the largest
+    off-diagonal block at each of the top ``levels`` bisections: the ranks a
+    HODLR matrix (weak admissibility) of K needs, and so about the number of
+    random probes a peeling construction from solves would need per level."""
+    norm = np.linalg.norm(K)
+    ranks = []
+    idx = [np.arange(points.shape[0])]
+    for _ in range(levels):
+        cluster = max(idx, key=lambda i: i.size)
+        p = points[cluster]
+        d = int(np.argmax(p.max(0) - p.min(0)))
+        order = cluster[np.argsort(p[:, d], kind="stable")]
+        a, b = order[: order.size // 2], order[order.size // 2 :]
+        block = K[np.ix_(_dofs(a), _dofs(b))]
+        sv = np.linalg.svd(block, compute_uv=False)
+        tol = eps * norm * math.sqrt(block.size / K.size)
+        tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]
+        ranks.append(int(np.count_nonzero(tail > tol)))
+        idx = [a, b]
+    return ranks
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--a-over-h", type=float, nargs="+", default=[12, 18, 25])
@@ -134,10 +159,11 @@ def main(argv=None) -> int:
         seconds = time.perf_counter() - t
         for r in rows:
             r.update({"a_over_h": aoh, "m": int(points.shape[0]), "K_mb": K.nbytes / 1e6,
-                      "leaf": args.leaf, "eta": args.eta, "seconds": seconds})
+                      "leaf": args.leaf, "eta": args.eta, "seconds": seconds,
+                      "weak_ranks": weak_ranks(K, points, r["eps"])})
             print(f"{aoh:5.0f} {r['m']:6d} {r['K_mb']:8.1f} {r['eps']:7.0e} "
                   f"{r['compression']:11.2f} {r['dense_share']:11.2f} {r['mean_rank']:9.1f} "
-                  f"{r['max_rank']:8d} {seconds:6.1f}", flush=True)
+                  f"{r['max_rank']:8d} {seconds:6.1f}  HODLR ranks {r['weak_ranks']}", flush=True)
         out += rows
         del K
     if args.json:

@@ -85,10 +85,12 @@ def test_output_formats_benchmark_smoke():
 
 
 def test_interface_compression_counts_stored_entries():
-    """benchmarks/interface_compression.py's measure on matrices whose answer
+    """benchmarks/interface_compression.py's measures on matrices whose answer
     is known: a rank-one K has rank 1 in every far block (stored entries
-    r + c each), a random K is full rank everywhere (compression exactly 1),
-    and the sampled frame's 3 x 3 node blocks are dense near the diagonal."""
+    r + c each) and in every off-diagonal block, a random K is full rank
+    everywhere (compression exactly 1; off-diagonal blocks of 100, 50 and 25
+    nodes, 3 dofs each), and the frame's node blocks are dense near the
+    diagonal."""
     spec = importlib.util.spec_from_file_location("b6", BENCH / "interface_compression.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
@@ -101,3 +103,6 @@ def test_interface_compression_counts_stored_entries():
     (full,) = mod.compression(rng.standard_normal((600, 600)), pts, [1e-8], leaf=16, eta=2.0)
     assert full["compression"] == 1.0 and full["max_rank"] > 1
     assert 0 < full["dense_share"] < 1
+    # the largest off-diagonal blocks of the top three bisections (HODLR ranks)
+    assert mod.weak_ranks(np.outer(u, u), pts, 1e-8) == [1, 1, 1]
+    assert mod.weak_ranks(rng.standard_normal((600, 600)), pts, 1e-8) == [300, 150, 75]
