@@ -74,12 +74,18 @@ def _dofs(idx: np.ndarray) -> np.ndarray:
     return (3 * idx[:, None] + np.arange(3)).ravel()
 
 
+def _rank(sv: np.ndarray, tol: float) -> int:
+    """Smallest rank whose dropped singular values ``sv`` have Frobenius norm <= tol."""
+    tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # norm of what rank k drops
+    return int(np.count_nonzero(tail > tol))
+
+
 def compression(K: np.ndarray, points: np.ndarray, eps_list, leaf: int, eta: float) -> list[dict]:
     """Stored entries of the best H-matrix of K at each eps (see above)."""
     root = _tree(points, np.arange(points.shape[0]), leaf)
     norm = np.linalg.norm(K)
     dense_near = 0
-    far = []  # (block rows, block cols, singular values)
+    far = []  # (block rows, block cols, singular values), once for every eps
 
     def diam(t):
         return float(np.linalg.norm(t["box"][1] - t["box"][0]))
@@ -92,8 +98,7 @@ def compression(K: np.ndarray, points: np.ndarray, eps_list, leaf: int, eta: flo
         nonlocal dense_near
         if max(diam(a), diam(b)) <= eta * dist(a, b):
             block = K[np.ix_(_dofs(a["idx"]), _dofs(b["idx"]))]
-            far.append((block.shape[0], block.shape[1],
-                        np.linalg.svd(block, compute_uv=False)))
+            far.append((*block.shape, np.linalg.svd(block, compute_uv=False)))
         elif "kids" not in a and "kids" not in b:
             dense_near += 9 * a["idx"].size * b["idx"].size
         else:
@@ -106,9 +111,7 @@ def compression(K: np.ndarray, points: np.ndarray, eps_list, leaf: int, eta: flo
     for eps in eps_list:
         stored, ranks = dense_near, []
         for r, c, sv in far:
-            tol = eps * norm * math.sqrt(r * c / K.size)
-            tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]  # norm of what rank k drops
-            k = int(np.count_nonzero(tail > tol))
+            k = _rank(sv, eps * norm * math.sqrt(r * c / K.size))
             ranks.append(k)
             stored += min(k * (r + c), r * c)
         rows.append({"eps": eps, "compression": K.size / stored,
@@ -132,10 +135,8 @@ def weak_ranks(K: np.ndarray, points: np.ndarray, eps: float, levels: int = 3) -
         order = cluster[np.argsort(p[:, d], kind="stable")]
         a, b = order[: order.size // 2], order[order.size // 2 :]
         block = K[np.ix_(_dofs(a), _dofs(b))]
-        sv = np.linalg.svd(block, compute_uv=False)
-        tol = eps * norm * math.sqrt(block.size / K.size)
-        tail = np.sqrt(np.cumsum(sv[::-1] ** 2))[::-1]
-        ranks.append(int(np.count_nonzero(tail > tol)))
+        ranks.append(_rank(np.linalg.svd(block, compute_uv=False),
+                           eps * norm * math.sqrt(block.size / K.size)))
         idx = [a, b]
     return ranks
 
