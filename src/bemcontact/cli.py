@@ -36,12 +36,11 @@ from collections.abc import Sequence
 import numpy as np
 
 from ._version import __version__
-from .contact.memory import machine_memory
+from .contact.memory import allowed, available_text, binding_limit, machine_memory
 from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import InterruptGuard, RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
-from .problemfile.sizes import MARGIN
 from .progress import terminal_text
 from .settings import MAX_THREADS
 
@@ -227,10 +226,10 @@ def _check(args: argparse.Namespace) -> int:
     # what run would refuse before its solve, check refuses too (after the report)
     est = problem.contact_problem().memory_estimate(problem.options, problem.steps or None)
     _, available = machine_memory()
-    if est.peak > MARGIN * available:
-        _error(f"{args.problem}: the solve needs about {est.text()}, more than this machine's "
-               f"{available / 1e9:.1f} GB of available memory (run refuses it); use a coarser "
-               "mesh or smaller contact surfaces")
+    if est.peak > allowed(available):
+        _error(f"{args.problem}: the solve needs about {est.text()}, more than "
+               f"{available_text(available)} (run refuses it); use a coarser mesh or smaller "
+               "contact surfaces")
         return EXIT_INPUT
     return EXIT_OK
 
@@ -324,6 +323,7 @@ def _describe(problem) -> str:
     lines.append(
         f"  estimated peak memory: {est.text()}; this machine: {available / 1e9:.1f} GB "
         f"available of {total / 1e9:.1f} GB"
+        + (f", under {limit.what}" if (limit := binding_limit(available)) else "")
     )
     if compressed:
         lines.append(
@@ -373,8 +373,9 @@ def _out_of_memory(path, problem) -> str:
     core's std::bad_alloc): the memory available and, with a problem, the
     solve's estimated peak."""
     total, available = machine_memory()
+    limit = binding_limit(available)
     text = (f"{path}: out of memory ({available / 1e9:.1f} GB available of "
-            f"{total / 1e9:.1f} GB)")
+            f"{total / 1e9:.1f} GB" + (f", under {limit.what})" if limit else ")"))
     if problem is not None:
         with contextlib.suppress(Exception):
             est = problem.contact_problem().memory_estimate(problem.options,
@@ -406,6 +407,7 @@ def _progress(args: argparse.Namespace):
 
 def _run(args: argparse.Namespace, guard: InterruptGuard) -> int:
     problem = None
+    solving = False
     try:
         # the output directory is checked first (reading only), then locked
         # from the solve to the end of the write; bad input touches nothing
@@ -416,7 +418,9 @@ def _run(args: argparse.Namespace, guard: InterruptGuard) -> int:
             report, shown = _progress(args)
             try:
                 with shown:
+                    solving = True
                     result = problem.solve(threads=args.threads, progress=report)
+                    solving = False
             except ConvergenceError as exc:
                 if args.debug:
                     raise
@@ -432,7 +436,11 @@ def _run(args: argparse.Namespace, guard: InterruptGuard) -> int:
             _error(f"cannot write the results to {args.out}: {exc.strerror or exc}"
                    + (f" ({where})" if where else ""))
         else:
-            _error(str(exc))
+            text = str(exc)
+            # what the solve refuses (memory, a body free to move) names the file too
+            if solving and not text.startswith(str(args.problem)):
+                text = f"{args.problem}: {text}"
+            _error(text)
         return EXIT_INPUT
     if not args.quiet:
         print(terminal_text(_report(problem, result, args.out, files)))

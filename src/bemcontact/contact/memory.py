@@ -1,7 +1,8 @@
 """Peak-memory estimate of a contact solve, from the sizes alone (before
 anything large is allocated): used by ``bemcontact check`` and by
 :meth:`~bemcontact.contact.ContactProblem.solve`, which refuses a solve that
-cannot fit in the machine's memory.
+cannot fit in the machine's memory, or in what a limit on the process (a
+control group's, ``ulimit -v``: :func:`process_limits`) leaves of it.
 
 The model follows the arrays the solve holds (8-byte doubles; N_a body
 nodes, n_a contact nodes, m active frame nodes, S load states):
@@ -36,6 +37,7 @@ tolerance the tests and benchmarks record.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -94,9 +96,9 @@ def resident_bytes() -> float:
         return 0.0
 
 
-def machine_memory() -> tuple[float, float]:
-    """(total, available) bytes of physical memory (/proc/meminfo; (inf,
-    inf) where it cannot be read)."""
+def _meminfo() -> tuple[float, float]:
+    """(MemTotal, MemAvailable) bytes from /proc/meminfo ((inf, inf) where
+    it cannot be read)."""
     try:
         info = {}
         with open("/proc/meminfo") as f:
@@ -106,6 +108,155 @@ def machine_memory() -> tuple[float, float]:
         return info["MemTotal"], info.get("MemAvailable", info["MemTotal"])
     except (OSError, KeyError, ValueError, IndexError):
         return float("inf"), float("inf")
+
+
+def _read_number(path: str) -> float | None:
+    try:
+        with open(path) as f:
+            text = f.read().strip()
+        return None if text == "max" else float(text)
+    except (OSError, ValueError):
+        return None
+
+
+def _inactive_file(path: str, key: str) -> float:
+    """Reclaimable page cache of a control group (its memory.stat's ``key``)."""
+    try:
+        with open(path) as f:
+            for line in f:
+                name, _, value = line.partition(" ")
+                if name == key:
+                    return float(value)
+    except (OSError, ValueError):
+        pass
+    return 0.0
+
+
+def _cgroup_dirs() -> list[tuple[str, str]]:
+    """(directory, version) of this process's memory control group: v2
+    (the unified hierarchy's path in /proc/self/cgroup, or its root) and v1
+    (the memory controller's path, or its root)."""
+    dirs = []
+    try:
+        with open("/proc/self/cgroup") as f:
+            for line in f:
+                _, controllers, path = line.rstrip("\n").split(":", 2)
+                if controllers == "":
+                    dirs.append((f"/sys/fs/cgroup{path.rstrip('/')}", "v2"))
+                elif "memory" in controllers.split(","):
+                    dirs.append((f"/sys/fs/cgroup/memory{path.rstrip('/')}", "v1"))
+    except (OSError, ValueError):
+        pass
+    return dirs + [("/sys/fs/cgroup", "v2"), ("/sys/fs/cgroup/memory", "v1")]
+
+
+#: A solve is refused when its estimated peak exceeds the available memory
+#: by more than this factor, the estimate's uncertainty (measured peaks
+#: within -8 % to +11 % of it, docs/benchmarks.md); it is warned about
+#: from 0.9 of it.
+MARGIN = 1.25
+
+
+class Limit(NamedTuple):
+    """A limit on this process's memory (:func:`process_limits`)."""
+
+    room: float
+    what: str
+    kind: str  # "address space" or "control group"
+
+
+def process_limits(total: float) -> list[Limit]:
+    """The limits on this process's memory below the machine's ``total``,
+    each as a :class:`Limit`: the room is what the solve's peak (this process's
+    resident memory included, as :class:`MemoryEstimate` counts it) may
+    reach under the limit, and ``what`` names the limit.  Read: the
+    address-space limit (``ulimit -v``, RLIMIT_AS: its room is the limit
+    less the address space mapped but not resident) and the control group's
+    memory limit (cgroup v2 ``memory.max`` or v1 ``memory.limit_in_bytes``,
+    as on a batch scheduler's or a container's share of a node: the limit
+    less what the group uses besides this process and its reclaimable page
+    cache)."""
+    import os
+    import resource
+
+    limits = []
+    page = float(os.sysconf("SC_PAGE_SIZE"))
+    try:
+        with open("/proc/self/statm") as f:
+            size, resident = (float(v) * page for v in f.read().split()[:2])
+    except (OSError, ValueError):
+        size = resident = 0.0
+    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+    if soft != resource.RLIM_INFINITY and size and soft < total:
+        limits.append(Limit(max(float(soft) - size + resident, 0.0),
+                            f"this process's address-space limit (ulimit -v) of "
+                            f"{soft / 1e9:.1f} GB", "address space"))
+    for folder, version in _cgroup_dirs():
+        if version == "v2":
+            limit = _read_number(f"{folder}/memory.max")
+            used = _read_number(f"{folder}/memory.current")
+            cache = _inactive_file(f"{folder}/memory.stat", "inactive_file")
+        else:
+            limit = _read_number(f"{folder}/memory.limit_in_bytes")
+            used = _read_number(f"{folder}/memory.usage_in_bytes")
+            cache = _inactive_file(f"{folder}/memory.stat", "total_inactive_file")
+        if limit is not None and used is not None and limit < total:
+            limits.append(Limit(max(limit - used + cache + resident, 0.0),
+                                f"its control group's memory limit of {limit / 1e9:.1f} GB",
+                                "control group"))
+            break
+    return limits
+
+
+def machine_memory() -> tuple[float, float]:
+    """(total, available) bytes: the physical memory (/proc/meminfo), and
+    what a solve may use, the machine's available memory or less under a
+    limit on this process (:func:`process_limits`); (inf, inf) where none of
+    it can be read."""
+    total, available = _meminfo()
+    rooms = [limit.room for limit in process_limits(total)]
+    return total, min([available] + rooms)
+
+
+def binding_limit(available: float) -> Limit | None:
+    """The limit on this process (:func:`process_limits`) that gives
+    :func:`machine_memory`'s ``available``, or None when the machine's
+    available memory does."""
+    total, free = _meminfo()
+    for limit in process_limits(total):
+        if limit.room < free and abs(limit.room - available) <= 0.05 * max(available, 1.0):
+            return limit
+    return None
+
+
+def allowed(available: float) -> float:
+    """The largest estimated peak a solve may have with ``available`` bytes
+    (:func:`machine_memory`'s): :data:`MARGIN` times them, or the bytes
+    themselves under an address-space limit (``ulimit -v``), where going
+    over it does not end in a MemoryError: the BLAS library retries a
+    failed mapping of its work buffers forever (OpenBLAS 0.3.30, SciPy's:
+    a solve hung in ``splu``) and the OpenMP runtime exits when it cannot
+    create a thread (both measured)."""
+    limit = binding_limit(available)
+    if limit is not None and limit.kind == "address space":
+        return available
+    return MARGIN * available
+
+
+def _amount(size: float) -> str:
+    """Bytes for a message: GB to one decimal from 0.1 GB, MB below."""
+    return f"{size / 1e9:.1f} GB" if size >= 1e8 else f"{size / 1e6:.3g} MB"
+
+
+def available_text(available: float) -> str:
+    """``available`` bytes (:func:`machine_memory`'s) in words for a
+    message: "this machine's 12.5 GB of available memory", or, when a limit
+    on this process gives that figure, "the 1.2 GB that this process's
+    address-space limit (ulimit -v) of 3.0 GB leaves"."""
+    limit = binding_limit(available)
+    if limit is not None:
+        return f"the {_amount(available)} that {limit.what} leaves"
+    return f"this machine's {_amount(available)} of available memory"
 
 
 def frame_bytes(elements, element_nodes: int, corners: int, order: int = 6) -> float:
@@ -167,4 +318,7 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear,
     return out
 
 
-__all__ = ["MemoryEstimate", "estimate", "frame_bytes", "least_body_bytes", "machine_memory", "resident_bytes"]
+__all__ = [
+    "MARGIN", "Limit", "MemoryEstimate", "allowed", "available_text", "binding_limit", "estimate",
+    "frame_bytes", "least_body_bytes", "machine_memory", "process_limits", "resident_bytes",
+]

@@ -26,7 +26,10 @@ from .frame import ContactFrame
 from .frames import FrameSet
 from .increment import solve_increment
 from .interface import InterfaceSystem
-from .memory import MemoryEstimate, estimate, frame_bytes, machine_memory, resident_bytes
+from .memory import (
+    MemoryEstimate, allowed, available_text, estimate, frame_bytes, machine_memory,
+    resident_bytes,
+)
 from .newton import NewtonSteps
 from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
@@ -320,8 +323,8 @@ class ContactProblem:
                      "\"hmatrix\") or smaller contact surfaces")
         if est.peak > 0.9 * available:
             warnings.warn(
-                f"the solve needs about {est.text()}, close to this machine's "
-                f"{available / 1e9:.1f} GB of available memory", ResourceLimitWarning,
+                f"the solve needs about {est.text()}, close to {available_text(available)}",
+                ResourceLimitWarning,
                 stacklevel=3,
             )
 
@@ -335,10 +338,10 @@ class ContactProblem:
 
     @staticmethod
     def _refuse(est: MemoryEstimate, available: float, fix: str) -> None:
-        if est.peak > 1.25 * available:
+        if est.peak > allowed(available):
             raise ConfigError(
-                f"the solve needs about {est.text()}, more than this machine's "
-                f"{available / 1e9:.1f} GB of available memory; use {fix}"
+                f"the solve needs about {est.text()}, more than {available_text(available)}; "
+                f"use {fix}"
             )
 
     def contact_modulus(self, pair: int = 0) -> float:

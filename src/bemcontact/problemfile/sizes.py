@@ -9,13 +9,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ..contact.memory import least_body_bytes, machine_memory
+from ..contact.memory import allowed, available_text, least_body_bytes, machine_memory
 from ..mesh import MAX_ELEMENTS, SurfaceMesh
 from .checks import Checker
-
-#: Refused above this multiple of the available memory (the estimate's
-#: uncertainty; the same margin as ContactProblem's check before a solve).
-MARGIN = 1.25
 
 _FIX = "raise fine_size or shrink the refined zone"
 
@@ -48,10 +44,10 @@ def check_generated_size(c: Checker, where: str, source: str, f: dict, t: dict) 
                f"{MAX_ELEMENTS:,} bemcontact accepts", t["fine_size"], _FIX)
     need = least_body_bytes(nodes)
     _, avail = machine_memory()
-    if need > MARGIN * avail:
+    if need > allowed(avail):
         c.fail(f"{where}.fine_size", f"gives about {estimate:.3g} elements "
-               f"({nodes:.3g} nodes), whose solve needs at least {need / 1e9:.3g} GB; "
-               f"this machine has {avail / 1e9:.3g} GB available", t["fine_size"], _FIX)
+               f"({nodes:.3g} nodes), whose solve needs at least {need / 1e9:.3g} GB, "
+               f"more than {available_text(avail)}", t["fine_size"], _FIX)
 
 
 def check_body_size(c: Checker, where: str, mesh: SurfaceMesh, value: Any) -> None:
@@ -61,11 +57,11 @@ def check_body_size(c: Checker, where: str, mesh: SurfaceMesh, value: Any) -> No
     frame and the full estimate are computed."""
     need = least_body_bytes(mesh.n_nodes)
     _, avail = machine_memory()
-    if need > MARGIN * avail:
+    if need > allowed(avail):
         c.fail(where, f"{mesh.n_elements:,} elements and {mesh.n_nodes:,} nodes: any solve of "
-               f"this body needs at least {need / 1e9:,.3g} GB (estimated peak memory), this "
-               f"machine has {avail / 1e9:.3g} GB available", value,
+               f"this body needs at least {need / 1e9:,.3g} GB (estimated peak memory), "
+               f"more than {available_text(avail)}", value,
                "use a coarser mesh or a machine with more memory")
 
 
-__all__ = ["MARGIN", "check_body_size", "check_generated_size"]
+__all__ = ["check_body_size", "check_generated_size"]

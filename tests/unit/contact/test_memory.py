@@ -1,6 +1,7 @@
 """The peak-memory estimate (contact/memory.py) and the refusal of a solve
 that cannot fit."""
 
+import re
 import warnings
 
 import numpy as np
@@ -67,7 +68,7 @@ def test_a_solve_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     peak = prob.memory_estimate().peak
     monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (peak / 2, peak / 2))
     with pytest.raises(bc.ConfigError, match=r"the solve needs about .* GB .*, more than this "
-                       r"machine's .* GB of available memory; use compressed operators") as exc:
+                       r"machine's .* [MG]B of available memory; use compressed operators") as exc:
         prob.solve()
     assert "\n" not in str(exc.value)
     monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (2 * peak, peak))
@@ -137,7 +138,7 @@ def test_a_frame_that_cannot_fit_is_refused_before_it_is_built(monkeypatch):
                         lambda: (frame / 4, frame / 4))
     monkeypatch.setattr("bemcontact.contact.problem.resident_bytes", lambda: 0.0)
     with pytest.raises(bc.ConfigError, match=r"the solve needs about 0\.00 GB \(at the frame\), "
-                       r"more than this machine's 0\.0 GB of available memory; use coarser or "
+                       r"more than this machine's [\d.]+ [MG]B of available memory; use coarser or "
                        r"smaller contact surfaces$"):
         prob.solve()
     assert prob._frames is None  # refused before the build
@@ -152,7 +153,97 @@ def test_loading_a_problem_file_refuses_a_frame_that_cannot_fit(tmp_path, monkey
     need = bc.load_problem(path, check_overlap=False).contact_problem().frame_memory()
     monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (need, need / 4))
     with pytest.raises(bc.ConfigError, match=r"the solve needs about \d\.\d\d GB \(at the "
-                       r"frame\), more than this machine's 0\.0 GB of available memory; use "
+                       r"frame\), more than this machine's [\d.]+ [MG]B of available memory; use "
                        r"coarser or smaller contact surfaces$") as exc:
         bc.load_problem(path)
     assert str(exc.value).startswith(f"{path}: the solve needs") and "\n" not in str(exc.value)
+
+
+_UNDER_A_LIMIT = r"""
+import resource, sys, warnings
+import numpy as np
+sys.path.insert(0, {tests!r})
+from unit.contact.test_problem import _problem
+import bemcontact as bc
+from bemcontact.contact import memory
+prob = _problem()
+est = prob.memory_estimate()
+phases = est.peak - est.process
+with open("/proc/self/statm") as f:
+    size = int(f.read().split()[0]) * resource.getpagesize()
+# room for 0.3 of the solve's phases beyond what is mapped now
+limit = size + int(0.3 * phases)
+resource.setrlimit(resource.RLIMIT_AS, (limit, resource.RLIM_INFINITY))
+total, available = memory.machine_memory()
+print("available", available, "limit", limit)
+try:
+    prob.solve()
+except bc.ConfigError as exc:
+    print("refused:", exc)
+"""
+
+
+def test_an_address_space_limit_is_the_memory_a_solve_may_use(tmp_path):
+    """Under ``ulimit -v`` (RLIMIT_AS) the available memory is the room the
+    limit leaves, not the machine's: a solve that would fail half-way with
+    an out-of-memory error is refused before it starts, in one line naming
+    the limit (before, the machine's 24 GB were compared and the solve
+    started).  Run in a child process, where the limit can be set."""
+    import os
+    import subprocess
+    import sys
+
+    tests = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    out = subprocess.run([sys.executable, "-c", _UNDER_A_LIMIT.format(tests=tests)],
+                         capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "OMP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1"})
+    assert out.returncode == 0, out.stderr[-2000:]
+    lines = out.stdout.splitlines()
+    available, limit = float(lines[0].split()[1]), float(lines[0].split()[3])
+    assert available < limit < 0.5 * memory.machine_memory()[1], lines
+    refused = [x for x in lines if x.startswith("refused:")]
+    assert len(refused) == 1, out.stdout
+    assert re.search(r"the solve needs about \d\.\d\d GB \(at the [a-z ]+\), more than the "
+                     r"[\d.]+ [MG]B that this process's address-space limit \(ulimit -v\) of "
+                     r"[\d.]+ GB leaves; use compressed operators", refused[0]), refused[0]
+
+
+def test_a_control_group_memory_limit_is_read(tmp_path, monkeypatch):
+    """A batch scheduler's or a container's share of a node (cgroup v2
+    memory.max, v1 memory.limit_in_bytes): the room is the limit less what
+    the group uses besides this process's resident memory and its
+    reclaimable page cache; "max" (v2) or a limit above the machine's
+    memory (v1's unlimited 2^63) is no limit."""
+    resident = memory.resident_bytes()
+    total = 64e9
+    v2 = tmp_path / "v2"
+    v2.mkdir()
+    (v2 / "memory.max").write_text("8000000000\n")
+    (v2 / "memory.current").write_text("3000000000\n")
+    (v2 / "memory.stat").write_text("anon 1\ninactive_file 500000000\nactive_file 7\n")
+    monkeypatch.setattr(memory, "_cgroup_dirs", lambda: [(str(v2), "v2")])
+    [(room, what, kind)] = memory.process_limits(total)[-1:]
+    assert kind == "control group" and what == "its control group's memory limit of 8.0 GB"
+    assert room == pytest.approx(8e9 - 3e9 + 0.5e9 + resident, rel=0.01)
+    (v2 / "memory.max").write_text("max\n")
+    assert not [x for x in memory.process_limits(total) if x.kind == "control group"]
+    v1 = tmp_path / "v1"
+    v1.mkdir()
+    (v1 / "memory.limit_in_bytes").write_text("9223372036854771712\n")
+    (v1 / "memory.usage_in_bytes").write_text("432353280\n")
+    monkeypatch.setattr(memory, "_cgroup_dirs", lambda: [(str(v1), "v1")])
+    assert not [x for x in memory.process_limits(total) if x.kind == "control group"]
+    (v1 / "memory.limit_in_bytes").write_text("4000000000\n")
+    (v1 / "memory.stat").write_text("cache 9\ntotal_inactive_file 1000000000\n")
+    [(room, what, kind)] = memory.process_limits(total)[-1:]
+    assert kind == "control group" and room == pytest.approx(4e9 - 432353280 + 1e9 + resident, rel=0.01)
+    # the limit that gives the available memory is named in messages
+    monkeypatch.setattr(memory, "_meminfo", lambda: (total, 20e9))
+    total_, available = memory.machine_memory()
+    assert available == pytest.approx(room, rel=0.01)
+    assert memory.available_text(available).startswith("the 4.") and memory.available_text(
+        available).endswith(" GB that its control group's memory limit of 4.0 GB leaves")
+    assert memory.available_text(20e9) == "this machine's 20.0 GB of available memory"
+    # a control group's limit keeps the estimate's margin (going over it ends
+    # in the out-of-memory killer, not in a hang)
+    assert memory.allowed(available) == pytest.approx(memory.MARGIN * available)
