@@ -237,6 +237,8 @@ class InterfaceSystem:
         self.k0u = k0u
         self._located: dict[int, tuple] = {}
         self._dk: tuple | None = None  # (cdofs, cols, K rows): _rows_of_k
+        #: the first-touch nodes not yet released (:meth:`start_increment`)
+        self.anchors = np.zeros(m, dtype=bool)
         # dk/dz = [K, L...] (3m, nz) and the linear rows besides the law (ne, nz)
         self._Lz = np.hstack([L for L in self.L]) if self.L else np.zeros((3 * m, 0))
         m3, nz = 3 * m, 3 * m + self._Lz.shape[1]
@@ -280,7 +282,8 @@ class InterfaceSystem:
     def k_initial_t(self) -> np.ndarray:
         return self.k0X.reshape(-1, 3)[:, :2].copy()
 
-    def start_increment(self, z: np.ndarray, ell: np.ndarray) -> None:
+    def start_increment(self, z: np.ndarray, ell: np.ndarray,
+                        k_prev: np.ndarray | None = None) -> np.ndarray | None:
         """Before an increment from the converged ``z`` at load ``ell``: a
         node with a gap there closes, if at all, during the increment, and
         its slip is counted from where it touches, which is not known in
@@ -291,14 +294,39 @@ class InterfaceSystem:
         the increment's end on.  A node touching at the start (gap <= 1e-8 of
         its frame element size) keeps its friction, and so do the nodes that
         touch first when every node is open (the smallest gap): they hold
-        the bodies from the start, as friction at a first contact point does
-        (a body held laterally only by friction would otherwise be free)."""
+        the bodies from the start (one held laterally only by friction would
+        otherwise be free).
+
+        Such a first-touch node (an anchor) holds alone the lateral force
+        of the first increment, e.g. the discrete bodies' equilibrium defect
+        (1e-4 of the normal force on the Cattaneo-Mindlin sphere): a traction
+        growing as 1/h^2, locked in while the node sticks (0.016 / 0.06 p0
+        at a/h = 12 / 25).  The anchor holds the bodies; it is no loading
+        history: once other nodes of its pair touch, the stick references
+        ``k_prev`` ((m, 2)) are returned without the displacement its
+        tangential traction caused, so the increment spreads that force over
+        the contact as an elastic stick solution does.  Returns the
+        references (``k_prev`` when unchanged; None without it)."""
         gap = self.k(z, ell)[:, 2]
+        tol = 1e-8 * self.size
+        npairs = int(self.pair_of.max(initial=-1)) + 1
         # the first touch of each pair (every pair holds its bodies)
-        first = np.full(int(self.pair_of.max(initial=-1)) + 1, np.inf)
+        first = np.full(npairs, np.inf)
         np.minimum.at(first, self.pair_of, gap)
         first = np.maximum(first, 0.0)
-        self.mu_nodes = np.where(gap > first[self.pair_of] + 1e-8 * self.size, 0.0, self.mu_base)
+        self.mu_nodes = np.where(gap > first[self.pair_of] + tol, 0.0, self.mu_base)
+        touching = gap <= tol
+        held = np.zeros(npairs, dtype=bool)  # others than the anchors touch
+        np.logical_or.at(held, self.pair_of, touching & ~self.anchors)
+        done = self.anchors & touching & held[self.pair_of]
+        self.anchors = ((self.mu_nodes > 0.0) & ~touching) | (self.anchors & ~done)
+        if k_prev is None or not done.any():
+            return k_prev
+        lam = self.split(z)[0].reshape(-1, 3)
+        nodes = np.flatnonzero(done)
+        cols = (3 * nodes[:, None] + np.arange(2)).ravel()
+        dk = (self.K[:, cols] @ lam[nodes, :2].ravel()).reshape(-1, 3)
+        return k_prev - dk[:, :2]
 
     def aggregated(self, groups: np.ndarray) -> InterfaceSystem:
         """The same interface system on clusters of frame nodes: one
@@ -351,6 +379,7 @@ class InterfaceSystem:
         c.CT = [np.asarray((P.T @ CT.T).T) for CT in self.CT]
         c._located = {}
         c._dk = None
+        c.anchors = np.zeros(mc, dtype=bool)
         c._Lz = R @ self._Lz
         m3 = 3 * self.m
         c._eq = np.hstack([np.asarray((P.T @ self._eq[:, :m3].T).T), self._eq[:, m3:]])
@@ -478,9 +507,8 @@ class InterfaceSystem:
           prescribed force.
 
         Either gives Newton a penalty contact with a patch of about the right
-        size.  ``z`` is otherwise returned unchanged (a node already closed,
-        or no such translation moving the normal gaps: it is left to the
-        error of the singular matrix)."""
+        size; else ``z`` is returned unchanged (a node already closed, or no
+        such translation moving the normal gaps: the singular matrix's error)."""
         lam, _ = self.split(z)
         if sum(self.nf) and not lam.any():  # a solve's start: no traction yet
             z = z.copy()

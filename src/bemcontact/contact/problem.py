@@ -540,7 +540,8 @@ class ContactProblem:
             name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
             for i in range(1, step.increments + 1):
                 tau = i / step.increments
-                system.start_increment(z, ell)  # the state this increment starts from
+                # the state this increment starts from, and its stick references
+                k_prev = system.start_increment(z, ell, k_prev)
                 ell_prev, ell = ell, (1 - tau) * prev + tau * target
                 k_start = k_prev
                 done += 1

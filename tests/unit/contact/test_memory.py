@@ -241,8 +241,8 @@ def test_a_control_group_memory_limit_is_read(tmp_path, monkeypatch):
     monkeypatch.setattr(memory, "_meminfo", lambda: (total, 20e9))
     total_, available = memory.machine_memory()
     assert available == pytest.approx(room, rel=0.01)
-    assert memory.available_text(available).startswith("the 4.") and memory.available_text(
-        available).endswith(" GB that its control group's memory limit of 4.0 GB leaves")
+    assert memory.available_text(available) == (
+        f"the {available / 1e9:.1f} GB that its control group's memory limit of 4.0 GB leaves")
     assert memory.available_text(20e9) == "this machine's 20.0 GB of available memory"
     # a control group's limit keeps the estimate's margin (going over it ends
     # in the out-of-memory killer, not in a hang)
