@@ -177,17 +177,20 @@ def process_limits(total: float) -> list[Limit]:
     less what the group uses besides this process and its reclaimable page
     cache)."""
     import os
-    import resource
 
     limits = []
-    page = float(os.sysconf("SC_PAGE_SIZE"))
     try:
+        import resource
+
+        page = float(os.sysconf("SC_PAGE_SIZE"))
+        soft = resource.getrlimit(resource.RLIMIT_AS)[0]
+        unlimited = soft == resource.RLIM_INFINITY
         with open("/proc/self/statm") as f:
             size, resident = (float(v) * page for v in f.read().split()[:2])
-    except (OSError, ValueError):
+    except (ImportError, AttributeError, OSError, ValueError):  # not Linux: no limits read
         size = resident = 0.0
-    soft = resource.getrlimit(resource.RLIMIT_AS)[0]
-    if soft != resource.RLIM_INFINITY and size and soft < total:
+        soft, unlimited = 0, True
+    if not unlimited and size and soft < total:
         limits.append(Limit(max(float(soft) - size + resident, 0.0),
                             f"this process's address-space limit (ulimit -v) of "
                             f"{soft / 1e9:.1f} GB", "address space"))
