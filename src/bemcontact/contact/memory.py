@@ -84,16 +84,23 @@ def least_body_bytes(nodes: float) -> float:
     return _DOUBLE * 2.0 * _compressed_fraction(int(nodes)) * n3 * n3
 
 
-def resident_bytes() -> float:
-    """This process's resident memory now (0 where /proc is unavailable)."""
+def _statm() -> tuple[float, float]:
+    """(mapped, resident) bytes of this process ((0, 0) where /proc is
+    unavailable)."""
     try:
-        with open("/proc/self/statm") as f:
-            pages = int(f.read().split()[1])
         import os
 
-        return float(pages * os.sysconf("SC_PAGE_SIZE"))
-    except (OSError, ValueError, IndexError, AttributeError):
-        return 0.0
+        page = float(os.sysconf("SC_PAGE_SIZE"))
+        with open("/proc/self/statm") as f:
+            size, resident = f.read().split()[:2]
+        return float(size) * page, float(resident) * page
+    except (OSError, ValueError, AttributeError):
+        return 0.0, 0.0
+
+
+def resident_bytes() -> float:
+    """This process's resident memory now (0 where /proc is unavailable)."""
+    return _statm()[1]
 
 
 def _meminfo() -> tuple[float, float]:
@@ -176,19 +183,14 @@ def process_limits(total: float) -> list[Limit]:
     as on a batch scheduler's or a container's share of a node: the limit
     less what the group uses besides this process and its reclaimable page
     cache)."""
-    import os
-
     limits = []
+    size, resident = _statm()
     try:
         import resource
 
-        page = float(os.sysconf("SC_PAGE_SIZE"))
         soft = resource.getrlimit(resource.RLIMIT_AS)[0]
         unlimited = soft == resource.RLIM_INFINITY
-        with open("/proc/self/statm") as f:
-            size, resident = (float(v) * page for v in f.read().split()[:2])
-    except (ImportError, AttributeError, OSError, ValueError):  # not Linux: no limits read
-        size = resident = 0.0
+    except (ImportError, AttributeError, OSError, ValueError):  # not a Unix: no such limit
         soft, unlimited = 0, True
     if not unlimited and size and soft < total:
         limits.append(Limit(max(float(soft) - size + resident, 0.0),
