@@ -1,4 +1,4 @@
-"""Assembly benchmark (issue 26): the three-body problem of
+"""Assembly benchmark: the three-body problem of
 examples/thrust_bearing_ball.toml (a ball between two washers, two contact
 pairs) against its two two-body parts solved separately with the same meshes:
 ``lower``/``ball`` (the ball's top cap pushed down by half the approach) and

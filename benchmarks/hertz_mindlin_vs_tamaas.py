@@ -32,8 +32,8 @@ contact).  The block is 36 contact radii wide and 18 deep, so the half-space
 idealization is within the stated tolerances (docs/validation.md); the
 resolution that matters for both codes, elements (grid cells) per contact
 radius, is matched.  At a/h = 25 the default validation grading (fine zone
-0.7 mm = 1.26 a, growth 0.3) gives 5,670 + 5,340 nodes and the whole-surface
-condensation ran out of the machine's 24 GB; the 1.1 a fine zone gives 4,208
+0.7 mm = 1.26 a, growth 0.3) gives 5,670 + 5,340 nodes, whose whole-surface
+condensation does not fit in the machine's 24 GB; the 1.1 a fine zone gives 4,208
 + 3,881.  --bem-max-a-over-h skips bemcontact above a resolution; a solve the
 memory estimate says cannot fit is recorded as refused, with the estimate.
 """
@@ -102,7 +102,7 @@ def bemcontact_side(a_over_h: float) -> dict:
     c_exact = ref.cattaneo_mindlin_stick_radius(a, Q[2], MU, P2)
 
     def p_dev(frame, hz_):
-        """largest |p - p_Hertz| / p0 inside 0.95 a (issue 22's "bump" measure)"""
+        """largest |p - p_Hertz| / p0 inside 0.95 a (the measure of the weighted gap's "bump")"""
         rr, pp, *_ = cases.radial_profile(frame)
         inside = rr < 0.95 * hz_.contact_radius
         return float(np.abs(pp[inside] - hz_.pressure(rr[inside])).max() / hz_.peak_pressure)

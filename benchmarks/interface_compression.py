@@ -1,12 +1,12 @@
-"""How far the interface flexibility K compresses as an H-matrix (issue 23's
-"compressed interface flexibility"), measured on the Cattaneo–Mindlin case
+"""How far the interface flexibility K compresses as an H-matrix (a
+compressed interface flexibility, docs/decisions.md), measured on the Cattaneo–Mindlin case
 of ``hertz_mindlin_vs_tamaas.py`` at several contact resolutions a/h.
 
     python benchmarks/interface_compression.py [--a-over-h 12 18 25]
         [--eps 1e-4 1e-6] [--leaf 32] [--eta 2] [--json FILE]
 
 K (3m x 3m, m the active frame nodes) is the dense matrix the contact solver
-builds today (``InterfaceSystem.K``: the relative displacement per unit frame
+builds (``InterfaceSystem.K``: the relative displacement per unit frame
 traction).  Its rows and columns are clustered by coordinate bisection of the
 frame nodes (leaves of at most ``--leaf`` nodes); a block of two clusters is
 admissible when max(diam) <= eta * dist.  Each admissible block is stored as
@@ -18,8 +18,8 @@ entries), the share of the dense near field, the ranks, and the ranks of the
 largest off-diagonal block at the top three bisections (what a HODLR matrix,
 or a peeling construction from random probes, needs per level).  This is the
 best any H-matrix of that block structure can do at that accuracy (optimal
-ranks), so it bounds what a compressed K can save; it says nothing yet about
-the cost of building one without the dense K.
+ranks), so it bounds what a compressed K can save; it says nothing about the
+cost of building one without the dense K.
 """
 
 from __future__ import annotations

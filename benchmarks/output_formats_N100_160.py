@@ -1,5 +1,6 @@
 """ParaView time series of a large run: PVD+VTU (what bemcontact writes)
-against XDMF (meshio) and VTKHDF (VTK's vtkHDFWriter), issue 25.
+against XDMF (meshio) and VTKHDF (VTK's vtkHDFWriter): would either serve
+large runs better (docs/benchmarks.md)?
 
 The run: one body, ``bc.box`` with N x N quad4 faces per side (6 N^2 + 2
 nodes: N = 100 -> 60,002, N = 160 -> 153,602), and its contact interface (the

@@ -1,4 +1,4 @@
-"""Scaling series of the H-matrix one-body solve (issue 7), and the paper's
+"""Scaling series of the H-matrix one-body solve, and the paper's
 two cubes, each size in its own process through the public command
 ``bemcontact bench``.
 
@@ -9,7 +9,7 @@ log-log PNG (docs/figures/scaling.png) and replaces the section between the
 markers ``<!-- scaling:begin -->`` and ``<!-- scaling:end -->`` of
 docs/benchmarks.md with the table.  CI does not run this (timings).
 
-For each K it also times the whole command-line run the issue asks about
+For each K it also times the whole command-line run (target: 10 s at K = 16)
 (``bemcontact run`` on the dissimilar-cubes problem file with K and K - 1
 divisions: read, mesh, frame, assemble, condense, Newton, write the VTU, CSV,
 JSON and PNG outputs), as process wall time, the median of ``--repeat`` runs,

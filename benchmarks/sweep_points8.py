@@ -1,4 +1,4 @@
-"""A sweep against separate runs (issue 27): wall time of ``bemcontact sweep``
+"""A sweep against separate runs: wall time of ``bemcontact sweep``
 over 8 points against 8 ``bemcontact run`` of the same points, one after the
 other, the largest difference of the key outputs (which must be below
 1e-10 relative), and whether every point's directory holds the files of its

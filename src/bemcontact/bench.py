@@ -11,7 +11,7 @@ of functional nodes under mixed boundary conditions whose exact solution is a
 linear displacement field (displacement on the three ``min`` faces, traction
 on the others), so the error is measured with the speed.
 
-Each function returns a flat dict with the keys the issue tracker asks for:
+Each function returns a flat dict with the keys the benchmark tables use:
 nodes, unknowns, assembly_s, factor_s, solve_s, newton_s, newton_iterations,
 peak_rss_mb, compressed_mb, dense_mb, error, normal_force, threads, version (the
 package's; benchmark scripts record the commit),

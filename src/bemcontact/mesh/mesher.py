@@ -82,8 +82,8 @@ def mesh_with_gmsh(
 @contextlib.contextmanager
 def _interrupt_deferred() -> Iterator[Callable[[], bool]]:
     """Ctrl-C while gmsh meshes.  Python sees the signal only in the size
-    callback, where the KeyboardInterrupt was raised into gmsh's C++ and
-    ignored ("Exception ignored on calling ctypes callback"): the run carried
+    callback, where a KeyboardInterrupt raised into gmsh's C++ is ignored
+    ("Exception ignored on calling ctypes callback") and the run would carry
     on for minutes.  Here the signal is only noted; the callback then answers
     the coarse size, so gmsh ends in moments, and the KeyboardInterrupt is
     raised when it has (from the main thread; elsewhere signals are not

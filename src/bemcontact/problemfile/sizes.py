@@ -2,7 +2,7 @@
 gmsh meshes it (its element estimate), and a body before its frame, memory
 estimate or solve is computed (what any solve of it holds at least).  A
 200,000-element body on a 25 GB machine is one line in seconds, not a
-minute of frame integration ending in a refusal (issue 24)."""
+minute of frame integration ending in a refusal."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Parameter studies (issue 27): many solves of one problem file with some
+"""Parameter studies: many solves of one problem file with some
 keys varied, each point a task on Dask distributed (:mod:`.sweep`), the
 bodies condensed once per group of points that share them and kept on disk
 (:mod:`.cache`)."""

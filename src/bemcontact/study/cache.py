@@ -1,4 +1,4 @@
-"""An on-disk cache of condensed bodies (issue 27): a body condensed once is
+"""An on-disk cache of condensed bodies: a body condensed once is
 read back by any later process instead of assembled and factored again.
 
 An entry is one file ``<key>.condensed``: a header line

@@ -1,4 +1,4 @@
-"""The points of a sweep (issue 27): the varied keys (dotted paths as in the
+"""The points of a sweep: the varied keys (dotted paths as in the
 problem file's error messages, ``contact.friction_coefficient``,
 ``body[1].boundary_conditions.zmax.displacement[2]``), their values, the
 problem file of each point and the checks of all of them before anything

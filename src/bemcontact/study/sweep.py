@@ -1,4 +1,4 @@
-"""``bemcontact sweep``: a parameter study on Dask distributed (issue 27).
+"""``bemcontact sweep``: a parameter study on Dask distributed.
 
 Every point (:mod:`.points`) is a task on a Dask cluster: a
 ``LocalCluster`` on this machine by default (one single-threaded worker
