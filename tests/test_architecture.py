@@ -26,7 +26,7 @@ LAYERS = [
     {"validation", "output", "bench"},
     {"contact"},
     {"bem"},
-    {"linalg"},
+    {"linalg", "halfspace"},
     {"mesh"},
     {"settings", "progress", "inputs"},
     {"errors", "_native", "_version"},
