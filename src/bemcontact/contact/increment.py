@@ -72,4 +72,19 @@ def _closing(system, z0, z1, rec, ell_prev, ell, k_prev, opt, report, done, tota
     return z2, rec2, msg2, kref
 
 
-__all__ = ["solve_increment"]
+def closed_text(system, pairs, z, ell, k_prev) -> str:
+    """``; closed: <pair> c/m, ...``, the closed frame nodes of each of
+    ``pairs`` at ``z`` (an assembly's progress per pair; '' for one pair)."""
+    if len(pairs) < 2:
+        return ""
+    lam, _ = system.split(z)
+    state = law.contact_state(lam.reshape(-1, 3), system.k(z, ell), k_prev,
+                              system.mu_nodes, system.r, system.r)
+    parts = []
+    for p, pair in enumerate(pairs):
+        st = state[system.frames.slice(p)]
+        parts.append(f"{pair.label} {int(np.count_nonzero(st))}/{st.size}")
+    return "; closed: " + ", ".join(parts)
+
+
+__all__ = ["closed_text", "solve_increment"]

@@ -19,6 +19,7 @@ from .frame import ContactFrame
 from .frames import FrameSet
 from .modes import CHUNK, TractionModes
 from .search import locate
+from .touch import first_touch
 
 
 def traction_modes(frame: ContactFrame | FrameSet) -> tuple[TractionModes, ...]:
@@ -34,35 +35,29 @@ def _frame_set(frame: ContactFrame | FrameSet) -> FrameSet:
     return FrameSet.single(frame) if isinstance(frame, ContactFrame) else frame
 
 
-#: Most sweeps of the floating bodies' first-touch moves (:meth:`InterfaceSystem._float`).
-FLOAT_SWEEPS = 30
+#: Entries of a rigid mode's or platen translation's column of dk/dz (and of
+#: its equilibrium row) below this fraction of the column's (row's) largest
+#: are round-off of an exact zero (docs/theory.md, "Verified solutions").
+ROUNDOFF = 1e-11
 
 
-def _root(g, step: float) -> float | None:
-    """du with g(du) = 0 (to bisection accuracy, on the side of the change of
-    sign) for a g monotone in du, e.g. a penalty resultant less its target:
-    0 if g(0) = 0; else doubling steps in each direction bracket a change of
-    sign, then 100 bisections.  None when neither direction finds one."""
-    g0 = g(0.0)
-    if g0 == 0.0:
-        return 0.0
-    for direction in (1.0, -1.0):
-        lo, h = 0.0, step
-        for _ in range(80):
-            hi = direction * h
-            v = g(hi)
-            if v != 0.0 and np.sign(v) != np.sign(g0):
-                for _ in range(100):
-                    mid = 0.5 * (lo + hi)
-                    if np.sign(g(mid)) == np.sign(g0):
-                        lo = mid
-                    else:
-                        hi = mid
-                return hi
-            if v == 0.0:
-                return hi
-            lo, h = hi, 2.0 * h
-    return None
+def _drop_roundoff(M: np.ndarray, axis: int = 0) -> np.ndarray:
+    """``M`` with the entries below :data:`ROUNDOFF` of the largest of their
+    column (``axis`` 0) or row (``axis`` 1) set to exactly zero, in place.
+
+    A rigid mode that moves a frictionless body in the contact's plane (a
+    slide, a turn about the normal) changes no normal gap in exact
+    arithmetic; computed, its normal components are round-off of the frame
+    normals (1e-17 of its tangential ones).  Left in, they make the start of
+    a solve and the singular diagnosis depend on the processor: a penalty
+    balance on those components moved a free cube by 2e15 mm on one machine,
+    every node opened and the residual was exactly zero.  Zeroed, such a
+    mode moves no gap, the Newton matrix has an exactly zero column for it
+    and the LU's zero pivot reports the singular matrix on every machine."""
+    if M.size:
+        big = np.abs(M).max(axis=axis, keepdims=True)
+        M[np.abs(M) <= ROUNDOFF * big] = 0.0
+    return M
 
 
 class RelativeDisplacement:
@@ -211,11 +206,12 @@ class InterfaceSystem:
                 k0u[dp] += weigh(Bp @ c.u0, p)
                 Li[dp] = weigh(Bp @ c.Rc, p)
                 Ly[dp] = weigh(Bp @ c.Yc, p)
-            self.L.append(Li)
-            self.L.append(Ly)
+            self.L.append(_drop_roundoff(Li))
+            self.L.append(_drop_roundoff(Ly))
             # equilibrium in the free rigid modes, scaled to traction units
-            self.E.append((Bt @ c.Rc).T)
-            self.CT.append(c.C @ c.X)  # (C X) first: C has a row per control
+            self.E.append(_drop_roundoff(np.asarray((Bt @ c.Rc).T), axis=1))
+            # (C X) first: C has a row per control
+            self.CT.append(_drop_roundoff(np.asarray(c.C @ c.X), axis=1))
             # a platen translation that strains nothing (the body is held only
             # by the contact in that direction) has no resultant: make that
             # exact, so an open contact shows as a singular Newton matrix
@@ -490,95 +486,9 @@ class InterfaceSystem:
         return A, b, keep, state
 
     def first_touch(self, z, ell, k_prev) -> np.ndarray:
-        """Predictor for bodies held only by the contact, whose rigid motion
-        the Newton matrix cannot fix while their nodes are open.
-
-        * Floating bodies (free rigid modes: a block resting on another under
-          a pressure, a stack of them) at a solve's start (every traction
-          zero): their free modes are moved until the trial pressures of
-          all their pairs balance their modal loads (:meth:`_float`); the
-          nodes that touch up to round-off at the start would otherwise be
-          open or closed by the sign of that round-off.
-        * A force-controlled platen (a sphere pushed by a force onto a block,
-          touching at a point) when every node is open at ``z``: each such
-          translation (its resultant row has no stiffness of its own) is
-          moved, traction multipliers held, until the augmented-Lagrangian
-          trial pressures max(0, -r k_n) of the nodes it closes balance the
-          prescribed force.
-
-        Either gives Newton a penalty contact with a patch of about the right
-        size; else ``z`` is returned unchanged (a node already closed, or no
-        such translation moving the normal gaps: the singular matrix's error)."""
-        lam, _ = self.split(z)
-        if sum(self.nf) and not lam.any():  # a solve's start: no traction yet
-            z = z.copy()
-            self._float(z, ell, lam)
-        state = law.contact_state(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu_nodes, self.r, self.r)
-        if (state != law.OPEN).any():
-            return z
-        z = z.copy()
-        kn0 = self.k(z, ell)[:, 2]
-        col = 3 * self.m
-        for i, c in enumerate(self.cb):
-            nf, nc = self.nf[i], self.nc[i]
-            need = c.forces @ ell - c.C @ (c.x0 @ ell) - self.CT[i] @ lam if nc else ()
-            for k_ in range(nc):
-                s = self.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
-                if np.any(self.CY[i][k_] != 0.0) or not np.any(s != 0.0) or need[k_] == 0.0:
-                    # restrained by the body's own supports, or tangential (the
-                    # friction of the closed nodes holds it), or nothing to carry
-                    continue
-                ct = self.CT[i][k_].reshape(-1, 3)[:, 2]  # resultant per pressure
-                # k is affine in z: only U_k moves
-                u = _root(
-                    lambda du, s=s, ct=ct, t=float(need[k_]):
-                    float(ct @ np.maximum(0.0, -self.r * (kn0 + s * du))) - t,
-                    max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
-                )
-                if u is not None:
-                    z[col + nf + k_] += u
-                    kn0 = kn0 + s * u
-            col += nf + nc
-        return z
-
-    def _float(self, z, ell, lam) -> np.ndarray:
-        """Move the free rigid modes of floating bodies (held by the contact
-        alone: a block resting on another under a pressure, a stack), in
-        ``z`` in place, until the augmented-Lagrangian trial pressures
-        max(0, -r k_n) of all their pairs balance their modal loads: one
-        mode at a time, body after body, repeated (a stack passes its load
-        down one body per sweep) until no mode moves by more than 1e-6 of
-        its last move or :data:`FLOAT_SWEEPS` sweeps.  Returns the normal
-        relative displacements k_n there."""
-        kn = self.k(z, ell)[:, 2]
-        modes = []
-        col = 3 * self.m
-        for i, c in enumerate(self.cb):
-            if self.nf[i]:
-                target = -(c.known_modal_force @ ell) - self.E[i] @ lam
-                for k_ in range(self.nf[i]):
-                    s = self.L[2 * i][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dalpha
-                    if np.any(s != 0.0):
-                        e = self.E[i][k_].reshape(-1, 3)[:, 2]  # modal force per pressure
-                        modes.append((col + k_, s, e, float(target[k_])))
-            col += self.nf[i] + self.nc[i]
-        if not modes:
-            return kn
-        scale = max(float(np.abs(kn).max()), 1e-12)
-        for _ in range(FLOAT_SWEEPS):
-            largest = 0.0
-            for j, s, e, target in modes:
-                u = _root(lambda du, s=s, e=e, t=target:
-                          float(e @ np.maximum(0.0, -self.r * (kn + s * du))) - t,
-                          scale / float(np.abs(s).max()))
-                if u:
-                    z[j] += u
-                    kn = kn + s * u
-                    largest = max(largest, abs(u) * float(np.abs(s).max()))
-            if largest <= 1e-6 * scale:
-                break
-            scale = largest
-        return kn
+        """The starting point of an increment for bodies held only by the
+        contact (:func:`~bemcontact.contact.touch.first_touch`)."""
+        return first_touch(self, z, ell, k_prev)
 
     def located(self, p: int, side: int):
         """Where each contact node of side ``side`` of pair ``p`` sits on the

@@ -20,11 +20,10 @@ from ..linalg.threads import blas_threads, usable_threads
 from ..mesh.element import CORNERS
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
-from . import law
 from .condensation import condense
 from .frame import ContactFrame
 from .frames import FrameSet
-from .increment import solve_increment
+from .increment import closed_text, solve_increment
 from .interface import InterfaceSystem
 from .memory import (
     MemoryEstimate, allowed, available_text, estimate, frame_bytes, machine_memory,
@@ -36,6 +35,7 @@ from .origin import own_origin, translated_bodies, translated_result, translated
 from .pair import ContactPair
 from .predictor import Predictor
 from .recovery import recover
+from .verification import verified
 from .results import ContactResult, StepRecord
 from .reuse import Condensation, CondenseBody, condense_problem
 
@@ -486,20 +486,6 @@ class ContactProblem:
         condensed.check(self._solved, self.pairs, opt.linear)
         self._frames = condensed.frames
 
-    def _closed(self, system, z, ell, k_prev) -> str:
-        """``; closed: <pair> c/m, ...``, the closed frame nodes of each pair
-        at ``z`` (an assembly's progress per pair; '' for one pair)."""
-        if len(self.pairs) < 2:
-            return ""
-        lam, _ = system.split(z)
-        state = law.contact_state(lam.reshape(-1, 3), system.k(z, ell), k_prev,
-                                  system.mu_nodes, system.r, system.r)
-        parts = []
-        for p, pair in enumerate(self.pairs):
-            st = state[system.frames.slice(p)]
-            parts.append(f"{pair.label} {int(np.count_nonzero(st))}/{st.size}")
-        return "; closed: " + ", ".join(parts)
-
     def _solve(self, opt, steps, states, raise_on_failure, report,
                condensed=None) -> ContactResult:
         t0 = time.perf_counter()
@@ -548,7 +534,7 @@ class ContactProblem:
                 if report is not None:
                     report(ProgressEvent("increment", "newton",
                                          f"{name} increment {i}/{step.increments}"
-                                         + self._closed(system, z, ell_prev, k_prev),
+                                         + closed_text(system, self.pairs, z, ell_prev, k_prev),
                                          index=done, total=total))
                 z, rec, msg, k_start = solve_increment(system, predictor, z, ell_prev, ell,
                                                        k_prev, opt, report, done, total,
@@ -567,17 +553,23 @@ class ContactProblem:
                 res = recover(system, z, ell, k_start, list(records), self._solved)
                 res.label = step.label
                 history.append(res)
+                if verified(res):  # every step's end against the contact conditions
+                    failed = f"{name}: {res.verification.message()}"
+                    break
         t4 = time.perf_counter()
         system.release()
         if report is not None and failed is None:
             its = sum(r.iterations for r in records)
             report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
-                                 "iteration(s)" + self._closed(system, z, ell, k_prev),
+                                 "iteration(s)" + closed_text(system, self.pairs, z, ell, k_prev),
                                  index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
         result = recover(system, z, ell, k_start, records, self._solved)
-        result.label = steps[len(history) if failed else -1].label
+        result.label = steps[s_ if failed else -1].label
         result.history = history if S > 1 else [result]
+        if verified(result, history if S > 1 else None) and failed is None:
+            failed = f"{name}: {result.verification.message()}"
+        result.converged = result.converged and failed is None
         result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}
         result.threads = opt.threads if opt.threads is not None else core().max_threads()
         result.timings = {

@@ -57,8 +57,8 @@ def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
     for p, (fr, act, link) in enumerate(zip(fs.frames, fs.act, fs.links)):
         nodes = fs.slice(p)
         pairs.append(_pair(system, p, fr, act, lam3[nodes], kk[nodes], k_init[nodes],
-                           state[nodes], system.a[nodes], [sols[a] for a in link],
-                           [bodies[a] for a in link]))
+                           k_prev[nodes], state[nodes], system.a[nodes],
+                           [sols[a] for a in link], [bodies[a] for a in link]))
     first = pairs[0]
     return ContactResult(
         converged=all(s.converged for s in steps) and len(steps) > 0,
@@ -76,10 +76,12 @@ def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
     )
 
 
-def _pair(system, p, fr, act, lam3, kk, k_init, state_act, a, sols, bodies) -> PairResult:
+def _pair(system, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
+          bodies) -> PairResult:
     """Pair p's frame fields, forces and interfaces (its active nodes'
     tractions ``lam3``, relative displacements ``kk``, their initial values
-    ``k_init``, states and weights ``a``; its two bodies' solutions)."""
+    ``k_init`` and those at the increment's start ``k_prev``, states and
+    weights ``a``; its two bodies' solutions)."""
     Q = fr.Q[act]
 
     # frame results (inactive nodes: open, zero traction, NaN gap)
@@ -90,6 +92,8 @@ def _pair(system, p, fr, act, lam3, kk, k_init, state_act, a, sols, bodies) -> P
 
     t_glob = np.einsum("jcl,jl->jc", Q[:, :, :2], lam3[:, :2])
     slip = np.einsum("jcl,jl->jc", Q[:, :, :2], kk[:, :2] - k_init[:, :2])
+    increment = np.einsum("jcl,jl->jc", Q[:, :, :2], kk[:, :2] - k_prev)
+    nodes = system.frames.slice(p)
     frame_res = FrameResult(
         points=fr.points,
         normals=fr.Q[:, :, 2],
@@ -99,8 +103,20 @@ def _pair(system, p, fr, act, lam3, kk, k_init, state_act, a, sols, bodies) -> P
         slip=full(slip),
         state=full(state_act.astype(np.int8), np.int8(0)),
         weights=fr.weights,
+        slip_increment=full(increment),
+        friction=full(np.asarray(system.mu_nodes[nodes], dtype=float)),
+        augmentation=full(np.asarray(system.r[nodes], dtype=float), np.inf),
     )
     F = np.einsum("j,jcl,jl->c", a, Q, lam3)  # force on body 2
+    # what the coupling transmits to each body (-lam to body 1, +lam to body
+    # 2, weighted by the integrals of the frame basis over that body's
+    # contact surface, c_j = sum_p D[p, j]), and what it does not: the
+    # coverage difference of the two surfaces (0 for a mortar frame whose
+    # surfaces both cover every frame node's support)
+    tg = np.einsum("jcl,jl->jc", Q, lam3)
+    c = [np.asarray(fr.D[side].sum(axis=0)).ravel()[act] for side in range(2)]
+    transmitted = np.array([-(c[0] @ tg), c[1] @ tg])
+    untransmitted = float(np.abs(c[1] - c[0]) @ np.linalg.norm(tg, axis=1))
     nbar = np.einsum("j,jc->c", a, Q[:, :, 2])
     nbar /= max(float(np.linalg.norm(nbar)), np.finfo(float).tiny)
     Fn = float(F @ nbar)
@@ -111,7 +127,8 @@ def _pair(system, p, fr, act, lam3, kk, k_init, state_act, a, sols, bodies) -> P
         names=(bodies[0].name, bodies[1].name),
         surfaces=(ifaces[0].surface, ifaces[1].surface),
         normal_force=Fn, tangential_force=Ft, contact_force=F,
-        interfaces=ifaces, frame=frame_res,
+        interfaces=ifaces, frame=frame_res, transmitted=transmitted,
+        untransmitted=untransmitted,
     )
 
 

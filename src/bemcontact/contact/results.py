@@ -16,6 +16,7 @@ import numpy as np
 
 from ..bem.body import BodySolution
 from .law import STATE_NAMES
+from .verification import Verification, verify
 
 
 def state_counts(state: np.ndarray) -> dict[str, int]:
@@ -76,7 +77,15 @@ class FrameResult(NodalContactFields):
     gap: (m,) weighted normal gap, > 0 open.
     slip: (m, 3) relative tangential displacement of body 2 w.r.t. body 1.
     state: (m,) int8.  weights: (m,) ∫ N_j dS.
+    slip_increment: (m, 3) the part of ``slip`` in the last load increment
+    (what ``state`` is judged against).  friction: (m,) the friction
+    coefficient in effect at each node in that increment (0 while it
+    closed).  augmentation: (m,) the law's r_j (stress per length).
     """
+
+    slip_increment: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    friction: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    augmentation: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass
@@ -89,6 +98,11 @@ class PairResult:
     contact_force: (3,) global force body 1 exerts on body 2 (N).
     interfaces: the two :class:`InterfaceResult` (body 1's, body 2's).
     frame: :class:`FrameResult`.
+    transmitted: (2, 3) the resultants the frame's tractions put on body 1
+        and body 2 through their couplings (N).
+    untransmitted: N, the bound on their sum: sum_j |c2_j - c1_j| |lam_j|,
+        c_a,j the integral of frame node j's basis over body a's contact
+        surface (0 when both surfaces cover every node's support).
     """
 
     names: tuple[str, str]
@@ -98,6 +112,8 @@ class PairResult:
     contact_force: np.ndarray
     interfaces: tuple[InterfaceResult, InterfaceResult]
     frame: FrameResult
+    transmitted: np.ndarray = field(default_factory=lambda: np.zeros((2, 3)))
+    untransmitted: float = 0.0
 
     @property
     def label(self) -> str:
@@ -172,6 +188,9 @@ class ContactResult:
         "hmatrix"; for compressed operators also sizes in MB, seconds, the
         H-LU residual and the sampled exact residual).
     threads: the threads the solve ran on (OpenMP and BLAS).
+    verification: the :class:`~bemcontact.contact.verification.Verification`
+        of the solve (the worst of each check over the load history); None
+        before it ran.  :meth:`verify` computes this state's checks anew.
     """
 
     converged: bool
@@ -191,6 +210,12 @@ class ContactResult:
     history: list = field(default_factory=list)
     linear: dict = field(default_factory=dict)
     threads: int | None = None
+    verification: Verification | None = None
+
+    def verify(self) -> Verification:
+        """This state's checks against the contact conditions
+        (:func:`~bemcontact.contact.verification.verify`)."""
+        return verify(self)
 
     def reactions(self) -> dict[str, dict[str, np.ndarray]]:
         """Body name -> region -> resultant force (3,) the surroundings
@@ -241,6 +266,8 @@ class ContactResult:
             "timings": {k: float(v) for k, v in self.timings.items()},
             "linear": self.linear,
             "threads": self.threads,
+            **({"verification": self.verification.summary()}
+               if self.verification is not None else {}),
         }
 
 
