@@ -163,7 +163,7 @@ def test_hertz_sphere_on_block_problem_file(tmp_path):
     h = 0.1 mm, so it must reproduce that table's row: force 2646.85 N
     (1e-3: quadrature and BLAS round-off across machines, as for the two
     cubes), peak pressure within 3 % of Hertz at the computed force (the
-    issue's tolerance; +0.69 % in the table) and the fitted contact radius
+    Hertz tier; +0.69 % in the table) and the fitted contact radius
     +2.3 % (±1 %: at this coarse h the least-squares fit is rough; it falls
     to 0.21 % at h = 0.05, which the validation test asserts)."""
     from bemcontact.output.read import read_csv

@@ -149,7 +149,8 @@ def test_console_script_and_module_entry_points():
 @pytest.mark.parametrize(
     "old, new, field, value",
     [
-        # the five classes of bad input named by the contact-solver issue
+        # five classes of bad input: a misspelt key, a wrong type, an unknown
+        # region, a value out of range, contact surfaces that never meet
         ("friction_coefficient =", "friction_coeficient =", "contact.friction_coeficient",
          "did you mean 'friction_coefficient'"),
         ("upper = [2, 2, 2], divisions = 1", "upper = [2, 2, 2], divisions = \"one\"",
@@ -162,7 +163,7 @@ def test_console_script_and_module_entry_points():
          "contact.surfaces", "do not overlap"),
     ],
 )
-def test_issue_bad_input_classes(tmp_path, capsys, old, new, field, value):
+def test_bad_input_classes(tmp_path, capsys, old, new, field, value):
     path = problem(tmp_path)
     text = path.read_text()
     assert old in text
@@ -247,7 +248,8 @@ def test_check_prints_what_would_be_solved(capsys, tmp_path):
 
 def test_threads_1_and_2_give_identical_results(tmp_path, capsys):
     # every parallel loop writes disjoint rows and sums in a fixed order, so the
-    # dense path gives the same numbers (issue 8 asks <= 1e-12 relative)
+    # dense path gives the same numbers; asserted to 1e-12 relative, not bit for
+    # bit, as BLAS calls on another thread count may round differently
     from bemcontact.output.read import read_csv
 
     src = problem(tmp_path)
@@ -322,8 +324,9 @@ def test_check_names_the_bodies_on_compressed_operators(tmp_path, capsys):
     ("/", "--out: is a filesystem root"),
 ])
 def test_out_places_that_are_refused(tmp_path, monkeypatch, capsys, where, message):
-    """Issue 24: `--out ""` wrote into the current directory, replacing files
-    there; now refused in one line before anything is solved."""
+    """`--out ""`, `.` and `/` (which would put the run into the current
+    directory or a root, replacing files there) are refused in one line
+    before anything is solved."""
     src = problem(tmp_path)
     monkeypatch.chdir(tmp_path)
     (tmp_path / "summary.json").write_text("mine")
@@ -447,10 +450,10 @@ def test_summary_prints_round_off_forces_as_zero_and_conditions_as_written(tmp_p
 
 @pytest.mark.parametrize("command", ["run", "check", "mesh-info", "bench"])
 def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch, command):
-    """Issue 24: std::bad_alloc in the H-LU (MemoryError through nanobind) or
-    a numpy allocation ended in a traceback; now one line naming the file and
-    the memory available (and for run the solve's estimated peak), exit 2,
-    the output directory untouched."""
+    """std::bad_alloc in the H-LU (MemoryError through nanobind) or a failed
+    numpy allocation is one line naming the file and the memory available
+    (and for run the solve's estimated peak), exit 2, no traceback, the
+    output directory untouched; --debug re-raises it."""
     import bemcontact.cli as cli
     import bemcontact.mesh as mesh_package
 
@@ -495,10 +498,10 @@ def test_an_allocation_failure_is_one_line_exit_2(tmp_path, capsys, monkeypatch,
 
 
 def test_exit_3_into_an_earlier_run_replaces_it_whole(tmp_path, capsys):
-    """Issue 24: a run that did not converge, written over an earlier
-    converged one, left that run's VTU and CSV files beside a
-    ``"converged": false`` summary; now the directory holds the diagnostic
-    run alone."""
+    """A run that does not converge, written over an earlier converged one,
+    replaces it whole: the directory holds the diagnostic run alone, none of
+    the earlier run's VTU and CSV files beside the ``"converged": false``
+    summary."""
     out = tmp_path / "out"
     assert main(["run", str(problem(tmp_path)), "--out", str(out), "--quiet"]) == 0
     assert (out / "frame.vtu").exists()
@@ -511,9 +514,9 @@ def test_exit_3_into_an_earlier_run_replaces_it_whole(tmp_path, capsys):
 
 
 def test_check_refuses_what_run_would_refuse_for_memory(tmp_path, capsys, monkeypatch):
-    """check printed "valid" for a solve estimated at 70.9 GB with 24 GB
-    available, which run then refused; now the report is followed by that
-    refusal (one line, exit 2)."""
+    """check refuses what run would refuse for memory: its report ("valid",
+    the machine's memory) is followed by run's refusal in one line, exit 2;
+    run refuses it before the solve, naming the file."""
     import bemcontact.cli as cli
 
     src = problem(tmp_path)

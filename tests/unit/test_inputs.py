@@ -1,4 +1,4 @@
-"""Hostile input files (issue 24): FIFOs and devices, oversized files, a
+"""Hostile input files: FIFOs and devices, oversized files, a
 byte-order mark, deep nesting, Ctrl-C and a closed pipe: one line, the right
 exit code, never a hang or a traceback."""
 

@@ -1,7 +1,7 @@
-"""Ctrl-C (issue 24): during gmsh meshing (swallowed before: the run carried
-on), inside compiled code (a signal reached Python only when the LU or the
-H-LU returned), through real processes: one line, exit 130 within a second
-or two, the output directory as it was and no lock left."""
+"""Ctrl-C during gmsh meshing (which must not swallow it and carry on),
+inside compiled code (where Python sees a signal only when the LU or the H-LU
+returns), through real processes: one line, exit 130 within a second or two,
+the output directory as it was and no lock left."""
 
 from __future__ import annotations
 

@@ -90,7 +90,7 @@ def test_force_matches_boussinesq_after_the_block_correction(punch):
     uncorrected, corrected = e.raw_force, e.force
     # the block's stiffening is the bulk of the raw difference (+11 %)
     assert 0.08 < uncorrected < 0.14
-    # the 2 %: measured +1.36 % (rim discretization, falling as
+    # 2 %: measured +1.36 % (rim discretization, falling as
     # h^1.8 to +0.40 % at 0.035 a)
     assert abs(corrected) < 0.02, f"corrected force error {corrected:+.2%}"
 

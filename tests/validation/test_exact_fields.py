@@ -5,7 +5,7 @@ element space (also on distorted and curved-parametrized elements), and its
 constant stress gives tractions constant on each face, also in the space.  The
 only error left is quadrature (default tolerance 1e-8 per integral) and
 round-off, so the thresholds (1e-10 for rigid motion, 1e-8 for uniform
-stress, as the issue demands) test the integration, the rigid-body diagonal
+stress) test the integration, the rigid-body diagonal
 and the edge/corner treatment.  Measured: rigid ~1e-12, uniform <= 2e-9.
 """
 

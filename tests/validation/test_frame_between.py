@@ -7,11 +7,11 @@ contact (Hertz with R_eff = R/2, a = 0.554 mm).
 
 These first tests pin the mortar weighted gap (relative_displacement =
 "weighted", the rule they were measured with); the default rule (projected,
-frame_on = "auto") is tested below on the issue's own mesh (h = 0.1 mm) and
-on two spheres of different radii.
+frame_on = "auto") is tested below on the mesh h = 0.1 mm and on two
+spheres of different radii.
 
 Tiers and why:
-* max |q| <= 0.01 p0 (the issue's bound; measured 0.0081, and 0.013 at
+* max |q| <= 0.01 p0 (measured 0.0081, and 0.013 at
   h = 0.1): what remains is the two meshes' different discretization error of
   the surfaces' radial displacement (the relative slip of the frictionless
   solve is 3e-5 mm, 1 % of u_r at the edge), which stick converts into shear
@@ -100,7 +100,7 @@ def test_frame_midway_with_bisecting_normals(frictional):
 
 
 # ------------------------------------------------ the defaults: auto + projected
-H_DEFAULT = 0.1  # the issue's measurement: two_spheres at h = 0.1 mm
+H_DEFAULT = 0.1  # two_spheres at h = 0.1 mm
 
 
 @pytest.fixture(scope="module")

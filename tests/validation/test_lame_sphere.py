@@ -2,8 +2,8 @@
 
 gmsh meshes both spheres with curved 6-node triangles (``order=2``).  The
 radial displacement at every collocation node is compared with Lamé's u_r(r)
-(bemcontact.validation.reference).  Tolerances: the issue asks for 0.5 % at a moderate
-mesh; at mesh size 0.5 (1392 nodes) we measure 0.18 % max, so 0.5 % has a
+(bemcontact.validation.reference).  Tolerances: 0.5 % at a moderate mesh; at
+mesh size 0.5 (1392 nodes) we measure 0.18 % max, so 0.5 % has a
 2.5x margin and still fails if the curved-element geometry or the pressure
 direction were wrong (flat tri3 at the same size gives 10 %).  Convergence:
 three meshes, errors must fall monotonically, fitted rate (vs the mean

@@ -245,8 +245,7 @@ def test_proportional_load_steps_give_the_one_step_answer():
     measuring slip from the previous converged step, must reproduce the
     one-step solution (measured 2.7e-14 p_max; asserted at the Newton
     tolerance level 1e-8).  A total-slip formulation would agree here too;
-    the incremental one is what makes non-monotonic histories (issue 6)
-    correct."""
+    the incremental one is what makes non-monotonic histories correct."""
     lower, upper = bodies(5, 1.0e8)
     problem = ContactProblem(lower, upper, ContactPair("zmax", "zmin", MU))
     one = problem.solve(SolverOptions(load_steps=1))

@@ -322,11 +322,11 @@ except MemoryError as exc:
 
 def test_memory_running_out_inside_the_threaded_product_is_a_memory_error():
     """The compiled product allocates its per-thread accumulators inside its
-    OpenMP region; a std::bad_alloc there used to leave the region and abort
-    the process ("terminate called after throwing an instance of
-    'std::bad_alloc'", measured at 3.5 and 4.5 blocks of room).  Now every
-    address-space limit from 2.5 to 4.5 times the block's size gives either
-    the product or a MemoryError, and the process ends normally."""
+    OpenMP region, where a std::bad_alloc leaving the region would abort the
+    process ("terminate called after throwing an instance of
+    'std::bad_alloc'", at 3.5 and 4.5 blocks of room): every address-space
+    limit from 2.5 to 4.5 times the block's size gives either the product or
+    a MemoryError, and the process ends normally."""
     import subprocess
     import sys
 

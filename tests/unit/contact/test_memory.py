@@ -187,8 +187,8 @@ def test_an_address_space_limit_is_the_memory_a_solve_may_use(tmp_path):
     """Under ``ulimit -v`` (RLIMIT_AS) the available memory is the room the
     limit leaves, not the machine's: a solve that would fail half-way with
     an out-of-memory error is refused before it starts, in one line naming
-    the limit (before, the machine's 24 GB were compared and the solve
-    started).  Run in a child process, where the limit can be set."""
+    the limit (not compared with the machine's memory, 24 GB, under which
+    it would start).  Run in a child process, where the limit can be set."""
     import os
     import subprocess
     import sys

@@ -55,7 +55,9 @@ def test_reused_factorization_gives_the_direct_step(partial_slip):
     reused = steps(A1.copy(), b1, keep1, phi1, forcing=1e-10)
     # the second: GMRES with that same factorization, nothing factored
     assert steps.stats["factorizations"] == 1 and steps.stats["krylov_steps"] == 2
-    # (measured 28 on these 50 unknowns with the single-precision factors)
+    # (measured 20 and 21 on these 50 unknowns with the single-precision
+    # factors of two BLAS kernels: the count follows the factors' rounding,
+    # hence a bound)
     assert 0 < steps.stats["krylov_iterations"] - first <= 30
     direct = NewtonSteps(reuse=False)(A1, b1, keep1, phi1)
     assert np.abs(reused - direct).max() <= 1e-8 * np.abs(direct).max()

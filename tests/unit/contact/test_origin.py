@@ -1,8 +1,8 @@
-"""Bodies far from the origin through the Python API (contact/origin.py,
-issue 24: two cubes offset by 1e12 changed the normal force by 0.5 % and
-every frame state).  ContactProblem solves relative to the bodies' own
-origin and returns the results at their position: a rigid offset of the
-whole problem changes nothing."""
+"""Bodies far from the origin through the Python API (contact/origin.py):
+ContactProblem solves relative to the bodies' own origin and returns the
+results at their position, so a rigid offset of the whole problem, 1e12
+here, changes nothing (solved at their absolute coordinates, two cubes
+offset so would lose 0.5 % of the normal force and every frame state)."""
 
 from __future__ import annotations
 

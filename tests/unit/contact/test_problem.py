@@ -76,11 +76,13 @@ def test_force_control_resultant_is_prescribed(cycle):
 def test_platen_translation_reported(cycle):
     """U_z is the same for every Q (the normal and tangential problems
     decouple for identical materials: to 1e-6 relative, the coupling left by
-    the discretization), U_x grows with Q and is NaN in y (not controlled)."""
+    the discretization), U_x grows with Q and is NaN in y (not controlled).
+    Under P alone U_x is zero by the mirror symmetry about x = 1: round-off
+    of the solve, bounded against U_z (measured 4e-15 of it)."""
     res, qs = cycle
     U = np.array([h.control_displacements["upper"]["zmax"] for h in res.history])
     assert np.isnan(U[:, 1]).all()
-    assert U[0, 0] == pytest.approx(0.0, abs=1e-12)
+    assert abs(U[0, 0]) <= 1e-11 * abs(U[0, 2])
     assert np.allclose(U[:, 2], U[0, 2], rtol=1e-5)
     assert U[0, 2] < 0
     assert U[1, 0] > 0 and U[2, 0] == pytest.approx(2 * U[1, 0], rel=1e-9)  # linear while all stick
@@ -226,13 +228,12 @@ def test_watchdog_and_monotone_line_search_agree(cycle):
 @pytest.mark.parametrize("gap", [0.0, 0.01])
 def test_force_control_starts_from_an_open_contact(gap):
     """The upper block under force control alone in z (held in x by
-    friction only), placed 0.01 above the lower one: every node open, the
-    Newton matrix singular in the platen's translation (this raised
-    before the first-touch predictor).  The predictor moves the platen
-    until a penalty patch carries P; Newton then converges to the solution
-    of the block placed in contact (gap 0, the reference's own set-up): the
-    same tractions to 1e-8 of the mean pressure, and a platen translation
-    larger by exactly the gap."""
+    friction only), placed 0.01 above the lower one: every node open, so the
+    Newton matrix at the start is singular in the platen's translation.  The
+    first-touch predictor moves the platen until a penalty patch carries P;
+    Newton then converges to the solution of the block placed in contact
+    (gap 0, the reference's own set-up): the same tractions to 1e-8 of the
+    mean pressure, and a platen translation larger by exactly the gap."""
     def solve(g):
         lower = bc.ElasticBody(bc.box((0, 0, 0), (2, 2, 2), 4), bc.LinearElastic(E, NU),
                                {"zmin": bc.Fixed()}, name="lower")
@@ -306,14 +307,14 @@ def test_the_first_touch_node_keeps_no_locked_in_shear():
     increment (every other node closing in it is frictionless there), so the
     lateral force of that increment lands on it: on the sphere of the
     Cattaneo-Mindlin case the discrete sphere's equilibrium defect, a
-    traction that grew as 1/h^2 and stayed locked in while the node stuck
-    (0.016 p0 at a/h = 12, 0.06 p0 at a/h = 25, a third of the q profile's
-    error there).  Once its neighbours touch, the stick references leave out
+    traction growing as 1/h^2 (0.016 p0 at a/h = 12, 0.06 p0 at a/h = 25, a
+    third of the q profile's error there if it stayed locked in while the
+    node sticks).  Once its neighbours touch, the stick references leave out
     the displacement of that traction (InterfaceSystem.start_increment): after
     a small tangential load Q = 0.02 mu P, where the exact shear is smooth
     at the centre, the first-touch node carries its six neighbours' shear to
-    5 % (they spread by 3 %; before: 13.6 MPa against -7.5 MPa, the opposite
-    sign).  h = 0.1 mm, a/h = 5.5."""
+    5 % (they spread by 3 %; with the traction locked in it carries 13.6 MPa
+    against their -7.5 MPa, the opposite sign).  h = 0.1 mm, a/h = 5.5."""
     from bemcontact.contact import law
     from bemcontact.validation import cases
     from bemcontact.validation.reference import contact as ref
@@ -327,7 +328,11 @@ def test_the_first_touch_node_keeps_no_locked_in_shear():
     after_p, after_q = res.history[0].frame, res.history[1].frame
     q = np.linalg.norm(after_p.tangential_traction, axis=1)
     anchor = int(np.argmax(q))
-    assert np.count_nonzero(q) == 1 and q[anchor] > 10.0  # only it holds after P
+    # only it holds after P: the others closed frictionless, where the law is
+    # lam_t = 0, solved to the Newton tolerance (1e-10 of the traction scale;
+    # measured exactly 0, which the LU's pivoting gives but does not promise)
+    held = q > 1e-9 * after_p.pressure.max()
+    assert np.count_nonzero(held) == 1 and held[anchor] and q[anchor] > 10.0
     near = np.argsort(np.linalg.norm(after_q.points - after_q.points[anchor], axis=1))[1:7]
     qx = after_q.tangential_traction[:, 0]
     assert np.all(after_q.state[[anchor, *near]] == law.STICK)

@@ -101,9 +101,9 @@ COMPRESSED = LinearSolverOptions(method="hmatrix", hmatrix=HMatrixOptions(eps=1e
 
 
 def test_two_cubes_dense_and_compressed_agree():
-    """The issue's test: the same contact solution from the dense and the
-    compressed path to 1e-6 relative (eps = 1e-8 blocks and H-LU; measured
-    5e-9 in the pressures).  The frictional, slipping dissimilar cubes."""
+    """The same contact solution from the dense and the compressed path to
+    1e-6 relative (eps = 1e-8 blocks and H-LU; measured 5e-9 in the
+    pressures).  The frictional, slipping dissimilar cubes."""
     rd = two_cubes(LinearSolverOptions(method="dense"))
     rh = two_cubes(COMPRESSED)
     lin = rh.linear["lower"]
@@ -142,8 +142,8 @@ def test_floating_body_compressed_patch_test():
 
 def test_too_loose_eps_warns_in_the_condensation():
     """eps = 1e-3 on the two cubes: the sampled exact residual exceeds the
-    requested accuracy (1e-6) and an AccuracyWarning says so (the issue: a
-    warning, not a silent wrong answer); the solve still completes."""
+    requested accuracy (1e-6) and an AccuracyWarning says so (a warning,
+    not a silent wrong answer); the solve still completes."""
     loose = LinearSolverOptions(method="hmatrix", accuracy=1e-6,
                                 hmatrix=HMatrixOptions(eps=1e-3, leaf_size=8))
     with pytest.warns(bc.AccuracyWarning, match=r"compressed operators with eps = 0.001") as w:

@@ -1,5 +1,6 @@
-"""Self-intersection of a surface (bemcontact.mesh.intersect, issue 24:
-self-intersecting closed surfaces passed mesh-info as "usable as a body")."""
+"""Self-intersection of a surface (bemcontact.mesh.intersect): a closed
+surface that intersects itself is not reported by mesh-info as "usable as a
+body"."""
 
 from __future__ import annotations
 

@@ -230,7 +230,7 @@ def test_size_profile_refines_a_ring():
 
 
 def test_gmsh_box_quads_are_all_quadrilaterals():
-    # blossom recombination used to leave triangles at this size (mixed tri3/quad4)
+    # at this size blossom recombination can leave triangles (mixed tri3/quad4)
     m = gmsh_box((0, 0, 0), (2, 2, 1), 0.2, quads=True)
     assert m.element_type == "quad4"
     assert m.signed_volume() == pytest.approx(4.0, rel=1e-12)

@@ -1,7 +1,8 @@
-"""Result files of an assembly (several bodies and contact pairs, issue 26):
-every body's surface, per pair its frame, interfaces and figures under the
-pair's names (bemcontact.output.layout), summary.json with the pairs' forces;
-a two-body run writes exactly the files it wrote before."""
+"""Result files of an assembly (several bodies and contact pairs): every
+body's surface, per pair its frame, interfaces and figures under the pair's
+names (bemcontact.output.layout), summary.json with the pairs' forces; a
+two-body run keeps its plain file names (no pair prefix, no pairs in
+summary.json)."""
 
 from __future__ import annotations
 
@@ -249,8 +250,10 @@ def test_too_long_file_names_are_refused_before_writing(result, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_two_body_run_writes_what_it_wrote_before(tmp_path):
-    """The listing of a two-body run, steps/ and manifest included."""
+def test_a_two_body_run_keeps_its_plain_file_names(tmp_path):
+    """The listing of a two-body run, steps/ and manifest included: each
+    body's and the frame's own name, no pair prefix; no pairs in the
+    summary."""
     lower = ElasticBody(box((0, 0, 0), (1, 1, 1), 2), LinearElastic(1e4, 0.3),
                         {"zmin": bc.Fixed()}, name="lower")
     upper = ElasticBody(box((0, 0, 1), (1, 1, 2), 1), LinearElastic(1e4, 0.3),

@@ -105,7 +105,7 @@ def test_forced_into_the_current_directory_touches_nothing_else(tmp_path, monkey
 
 def test_dot_dot_creates_no_directory_on_the_way(tmp_path, monkeypatch):
     """`--out a/new/..` is `a`: the run goes into a/out-free `a`, and no
-    `a/new` is created on the way (issue 24)."""
+    `a/new` is created on the way."""
     monkeypatch.chdir(tmp_path)
     rd = RunDirectory("a/new/..")
     assert rd.path == tmp_path / "a"

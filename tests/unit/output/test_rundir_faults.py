@@ -1,4 +1,4 @@
-"""Fault injection into the output directory (issue 24): the writer failing at
+"""Fault injection into the output directory: the writer failing at
 each file, a kill at each stage of the swap, two runs racing for one
 directory, and ``--out`` as a symbolic link.  After each, the directory holds
 exactly one complete run (the old or the new), and nothing else is left."""
@@ -306,8 +306,9 @@ def test_out_as_a_symbolic_link_writes_into_its_target(tmp_path):
 @pytest.mark.parametrize("target", ["nothing/here", "afile"])
 def test_out_as_a_dangling_symbolic_link_is_refused_before_the_solve(
         tmp_path, capsys, monkeypatch, target):
-    """Issue 24: a dangling link passed every check and the run failed after
-    the solve ("Not a directory"); now one line before anything is read."""
+    """``--out`` as a dangling symbolic link (or one to a file) is refused in
+    one line before anything is read, not after the solve ("Not a
+    directory")."""
     (tmp_path / "afile").write_text("mine")
     (tmp_path / "link").symlink_to(target)
     src = problem(tmp_path)

@@ -338,8 +338,9 @@ def test_rewrite_replaces_an_earlier_run_whole(result, tmp_path):
 
 
 def test_a_user_file_in_a_run_directory_is_never_deleted(result, tmp_path):
-    """The defect of issue 24: a rewrite replaced steps/ whole, deleting a
-    user's file in it.  Now the rewrite is refused, naming the file."""
+    """A rewrite of a run directory whose steps/ holds a user's file (which
+    replacing steps/ whole would delete) is refused, naming the file; with
+    force the file stays."""
     out = tmp_path / "out"
     io.write_results(result, out, options=io.OutputOptions(figures=False))
     (out / "steps" / "my_notes.txt").write_text("mine")

@@ -1,6 +1,6 @@
 """The bad-input corpus tests/data/bad: every malformed problem file and mesh
 gives exit code 2, exactly one stderr line ``bemcontact: error: ...`` naming
-the file, no traceback, and leaves ``--out DIR`` untouched (issue 8).
+the file, no traceback, and leaves ``--out DIR`` untouched.
 
 Layout of tests/data/bad:
 

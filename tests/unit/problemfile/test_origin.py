@@ -1,7 +1,8 @@
-"""Bodies far from the origin through a problem file (issue 24: two cubes
-offset by 1e12 changed the normal force by 0.5 % and every frame state;
-ContactProblem solves relative to their own origin, bemcontact.contact.origin).
-A rigid offset of the whole problem changes nothing."""
+"""Bodies far from the origin through a problem file: ContactProblem
+solves relative to the bodies' own origin (bemcontact.contact.origin), so a
+rigid offset of the whole problem, 1e12 here, changes nothing (solved at
+their absolute coordinates, two cubes offset so would lose 0.5 % of the
+normal force and every frame state)."""
 
 from __future__ import annotations
 
@@ -76,7 +77,8 @@ def test_the_written_files_are_at_the_bodies_position(tmp_path, at_origin):
 def test_the_example_far_away_agrees_to_its_input_rounding(tmp_path):
     """The example's own meshes (6 and 5 divisions: nodes at thirds and
     fifths, rounded at 1e12 to 1.2e-4): the offset moves nodes by up to 6e-5
-    of 0.33, and the force by as little (it moved 0.5 % before)."""
+    of 0.33, and the force by as little (solved at the absolute coordinates
+    it moves by 0.5 %)."""
     r0 = bc.load_problem(_cubes(tmp_path, (0.0, 0.0, 0.0), (6, 5), "a.toml")).solve()
     r1 = bc.load_problem(_cubes(tmp_path, (1e12, 1e12, 0.0), (6, 5), "b.toml")).solve()
     assert abs(r1.normal_force / r0.normal_force - 1) < 1e-4, (r0.normal_force, r1.normal_force)
@@ -101,9 +103,10 @@ def test_a_failed_solve_far_away_reports_the_bodies_position(tmp_path):
 
 
 def test_signed_volume_far_from_the_origin():
-    """A 2 x 2 x 2 box at -1e12: the absolute x in V = 1/3 ∮ x.n dS cancelled
-    to -1.9e6 and the box was refused as inverted; now x is taken from a node
-    (the quadrature points themselves are rounded to 1.2e-4 there)."""
+    """A 2 x 2 x 2 box at -1e12 has volume 8 and passes the check: x in
+    V = 1/3 ∮ x.n dS is taken from a node (the absolute x cancels to -1.9e6,
+    which would call the box inverted; the quadrature points themselves are
+    rounded to 1.2e-4 there)."""
     far = bc.box((-1e12, 3e11, 0), (-1e12 + 2, 3e11 + 2, 2), 4)
     assert far.check() is far
     assert far.signed_volume() == pytest.approx(8.0, rel=1e-4)

@@ -1,4 +1,4 @@
-"""Property-based fuzzing of the problem-file schema (issue 8).
+"""Property-based fuzzing of the problem-file schema.
 
 A valid two-cube problem (a dict covering every section and most keys) is
 mutated at random: a leaf or a whole table replaced by a random value of a

@@ -1,6 +1,6 @@
-"""Sizes refused before the work (bemcontact.problemfile.sizes, issue 24):
-``check`` of a 200,000-element body answers in seconds with the memory
-needed and available, not after a minute of frame integration."""
+"""Sizes refused before the work (bemcontact.problemfile.sizes): ``check``
+of a 200,000-element body answers in seconds with the memory needed and
+available, before any frame integration (which would take a minute)."""
 
 from __future__ import annotations
 
@@ -19,8 +19,8 @@ def test_check_of_a_200k_element_body_is_refused_within_10_s(tmp_path, capsys, m
     """The box of 6 x 183^2 = 200,934 quad4 elements: any solve holds at least
     its compressed matrix and H-LU (209 GB); with 16 GB available (fixed, so
     the test does not depend on the machine) check refuses it in one line,
-    naming both numbers, well within 10 s (it took 58 s and ended in a
-    valid-looking report before)."""
+    naming both numbers, well within 10 s (building the frame of such a
+    body takes about a minute)."""
     monkeypatch.setattr(sizes, "machine_memory", lambda: (32e9, 16e9))
     src = problem(tmp_path)
     src.write_text(src.read_text().replace("upper = [2, 2, 2], divisions = 1",

@@ -1,4 +1,4 @@
-"""Re-solves reusing the condensed bodies (issue 27): the same numbers as a
+"""Re-solves reusing the condensed bodies: the same numbers as a
 fresh solve, kinds of condition and other bodies refused."""
 
 from __future__ import annotations

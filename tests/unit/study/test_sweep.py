@@ -1,4 +1,4 @@
-"""bemcontact sweep on Dask (issue 27): every point equal to a separate run,
+"""bemcontact sweep on Dask: every point equal to a separate run,
 failing points in the table, resume, 1 and N workers, bad input."""
 
 from __future__ import annotations
