@@ -7,9 +7,9 @@ boundary value problem of one body, solved by the bordered solve of
 
 from __future__ import annotations
 
+import copy
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -24,50 +24,8 @@ from .conditions import (
 )
 from .discretization import Discretization, DiscretizationOptions, discretize
 from .material import LinearElastic
+from .solution import BodySolution
 from .operators import QuadratureOptions, assemble_influence, assemble_system
-
-
-@dataclass
-class BodySolution:
-    """Nodal results of one elastic solve (N functional nodes).
-
-    Attributes
-    ----------
-    points, normals: (N, 3) collocation points and outward unit normals.
-    displacement, traction: (N, 3) global components.
-    weights: (N,) ∫ phi_i dS.
-    region: (N,) region index per node; ``region_names`` the names.
-    discretization: the :class:`~bemcontact.bem.discretization.Discretization`.
-    timings: seconds per stage (assembly, solve; dense: also factor, the LAPACK
-        getrf alone, inside solve).
-    solver: how the system was solved: ``method`` ("dense" or "hmatrix"), and
-        for "hmatrix" the GMRES ``iterations`` and ``residuals`` and the
-        compression figures of :meth:`~bemcontact.linalg.CompressedSystem.stats`.
-    """
-
-    points: np.ndarray
-    normals: np.ndarray
-    displacement: np.ndarray
-    traction: np.ndarray
-    weights: np.ndarray
-    region: np.ndarray
-    region_names: tuple[str, ...]
-    discretization: Discretization
-    timings: dict[str, float] = field(default_factory=dict)
-    solver: dict = field(default_factory=dict)
-
-    def nodes_of(self, region: str) -> np.ndarray:
-        if region not in self.region_names:
-            raise ConfigError(f"unknown region {region!r}; regions are {list(self.region_names)}")
-        return np.flatnonzero(self.region == self.region_names.index(region))
-
-    def reaction(self, region: str) -> np.ndarray:
-        """Resultant force (3,) the surroundings exert on ``region``: ∫ t dS."""
-        i = self.nodes_of(region)
-        return self.weights[i] @ self.traction[i]
-
-    def reactions(self) -> dict[str, np.ndarray]:
-        return {r: self.reaction(r) for r in self.region_names}
 
 
 class ElasticBody:
@@ -166,6 +124,58 @@ class ElasticBody:
         if self._disc is None:
             self._disc = discretize(self.mesh, self.discretization_options)
         return self._disc
+
+    # -- what the contact solver asks of a body (bemcontact.contact.flexibility.Body)
+    @property
+    def trace(self) -> Discretization:
+        """The body's surface with its functional nodes (for the contact
+        frame): the BEM discretization itself."""
+        return self.discretization
+
+    @property
+    def region_names(self) -> tuple[str, ...]:
+        return self.mesh.region_names
+
+    @property
+    def contact_compliance(self) -> float:
+        """(1 - nu^2) / E: the body's share of 1/E* (the contact modulus)."""
+        return (1 - self.material.poisson_ratio**2) / self.material.youngs_modulus
+
+    def condense(self, nodes: np.ndarray, threads: int | None = None, states=None,
+                 progress=None, linear: LinearSolverOptions | None = None, modes=None, *,
+                 load_fields: np.ndarray | None = None):
+        """This body's flexibility on its contact ``nodes``
+        (:func:`~bemcontact.bem.condensation.condense`)."""
+        from .condensation import condense
+
+        return condense(self, nodes, threads, states, progress, linear, modes,
+                        load_fields=load_fields)
+
+    def translated(self, origin: np.ndarray) -> ElasticBody:
+        """A copy whose mesh is translated by ``-origin`` (the mesh checks
+        hold as they are; the conditions are the caller's to translate)."""
+        m = self.mesh
+        c = copy.copy(self)
+        c.mesh = SurfaceMesh(m.nodes - origin, m.elements, m.element_type, m.regions,
+                             source=m.source)
+        c._disc = None
+        return c
+
+    def same_model(self, other) -> bool:
+        """Whether ``other`` is the same elastic model (name, mesh, material,
+        quadrature and discretization options): its condensation can be
+        reused for this body."""
+        if not isinstance(other, ElasticBody):
+            return False
+        a, b = self.mesh, other.mesh
+        return (
+            self.name == other.name and self.material == other.material
+            and self.quadrature == other.quadrature
+            and self.discretization_options == other.discretization_options
+            and a.region_names == b.region_names and np.array_equal(a.nodes, b.nodes)
+            and np.array_equal(a.elements, b.elements) and a.element_type == b.element_type
+            and np.array_equal(a.element_region, b.element_region)
+        )
 
     def boundary_data(
         self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None

@@ -2,7 +2,8 @@
 contact frame, the pair, the condensation, the interface system and its
 Newton solve, the problem with its load steps, and the results."""
 
-from .condensation import CondensedBody, condense
+from ..bem.condensation import CondensedBody, condense
+from .flexibility import Flexibility
 from .frame import ContactFrame
 from .frames import FrameSet
 from .options import SolverOptions
@@ -13,5 +14,5 @@ from .results import ContactResult, FrameResult, InterfaceResult, PairResult, St
 __all__ = [
     "ContactPair", "ContactProblem", "LoadStep", "SolverOptions", "ContactFrame", "condense",
     "CondensedBody", "ContactResult", "FrameResult", "FrameSet", "InterfaceResult", "PairResult",
-    "StepRecord",
+    "StepRecord", "Flexibility",
 ]

@@ -6,19 +6,16 @@ recovered by :mod:`bemcontact.contact.recovery`."""
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import scipy.sparse
 import scipy.sparse.linalg
 
 from ..errors import ConfigError
-from ..mesh.element import element_geometry
 from . import law
 from .frame import ContactFrame
 from .frames import FrameSet
 from .modes import CHUNK, TractionModes
-from .search import locate
 from .touch import first_touch
 
 
@@ -164,10 +161,10 @@ class InterfaceSystem:
 
         K = np.zeros((3 * m, 3 * m))
         k0X = np.zeros(3 * m)
-        k0u = np.zeros((3 * m, cb[0].x0.shape[1]))
+        k0u = np.zeros((3 * m, cb[0].u0.shape[1]))
         # extra unknowns: per body, alpha then U; L[b] their columns in k
-        self.nf = [c.Rf.shape[1] for c in cb]
-        self.nc = [c.Y.shape[1] for c in cb]
+        self.nf = [c.Rc.shape[1] for c in cb]
+        self.nc = [c.Yc.shape[1] for c in cb]
         self.L = []
         self.E = []
         self.CT = []  # (nc, 3m): resultants of the controlled components per lam
@@ -175,15 +172,16 @@ class InterfaceSystem:
         for i, c in enumerate(cb):
             if c.modes is None or c.modes.size != 3 * m:
                 raise ConfigError(
-                    f"{c.body.name}: condense the body on the frame's traction modes "
+                    f"{c.name}: condense the body on the frame's traction modes "
                     "(condense(..., modes=traction_modes(frame)[i]))"
                 )
             # nodal forces per frame traction B (signed); the relative
             # displacement k = sum_a W_a x_a[dofs], W_a = weigh(B_a^T),
             # on the rows of the pairs the body is in
             Bt = c.modes.B.T.tocsr()  # (3m, 3n) sparse
-            Li = np.zeros((3 * m, c.Rf.shape[1]))
-            Ly = np.zeros((3 * m, c.Y.shape[1]))
+            Rc, Yc = c.Rc, c.Yc
+            Li = np.zeros((3 * m, Rc.shape[1]))
+            Ly = np.zeros((3 * m, Yc.shape[1]))
             for p, side in fs.pairs_of(i):
                 f, dp = fs.frames[p], fs.dofs(p)
                 Bp = Bt[dp]
@@ -194,35 +192,24 @@ class InterfaceSystem:
                 K[dp] += Bp @ c.F
                 if f.rule == "mortar":
                     # positions: exact for any overlap because (*) holds
-                    X = c.body.discretization.points[c.nodes].ravel()
+                    X = c.points.ravel()
                 else:
                     # point evaluation violates (*): take the initial gap from each
                     # node's offset to the frame surface (the paper's g0), so the
                     # position of the origin does not enter
-                    X = np.zeros((c.nodes.size, 3))
+                    X = np.zeros((c.points.shape[0], 3))
                     X[fs.rows(p, side)] = f.offsets(side)
                     X = X.ravel()
                 k0X[dp] += weigh(Bp @ X, p)
                 k0u[dp] += weigh(Bp @ c.u0, p)
-                Li[dp] = weigh(Bp @ c.Rc, p)
-                Ly[dp] = weigh(Bp @ c.Yc, p)
+                Li[dp] = weigh(Bp @ Rc, p)
+                Ly[dp] = weigh(Bp @ Yc, p)
             self.L.append(_drop_roundoff(Li))
             self.L.append(_drop_roundoff(Ly))
             # equilibrium in the free rigid modes, scaled to traction units
-            self.E.append(_drop_roundoff(np.asarray((Bt @ c.Rc).T), axis=1))
-            # (C X) first: C has a row per control
-            self.CT.append(_drop_roundoff(np.asarray(c.C @ c.X), axis=1))
-            # a platen translation that strains nothing (the body is held only
-            # by the contact in that direction) has no resultant: make that
-            # exact, so an open contact shows as a singular Newton matrix
-            CY = c.C @ c.Y
-            E = c.body.material.youngs_modulus
-            for k_, ctl in enumerate(c.controls):
-                size = math.sqrt(c.C[k_].sum())
-                if abs(CY[k_, k_]) <= 1e-8 * E * size:
-                    CY[k_, :] = 0.0
-                    CY[:, k_] = 0.0
-            self.CY.append(CY)
+            self.E.append(_drop_roundoff(np.asarray((Bt @ Rc).T), axis=1))
+            self.CT.append(_drop_roundoff(np.asarray(c.CX), axis=1))
+            self.CY.append(c.CY)
         for p in range(npairs):
             dp = fs.dofs(p)
             w = weigh(K[dp], p, overwrite=True)  # in place when projected
@@ -231,7 +218,6 @@ class InterfaceSystem:
         self.K = K
         self.k0X = k0X
         self.k0u = k0u
-        self._located: dict[int, tuple] = {}
         self._dk: tuple | None = None  # (cdofs, cols, K rows): _rows_of_k
         #: the first-touch nodes not yet released (:meth:`start_increment`)
         self.anchors = np.zeros(m, dtype=bool)
@@ -373,7 +359,6 @@ class InterfaceSystem:
         c.L = [R @ L for L in self.L]
         c.E = [np.asarray((P.T @ E.T).T) for E in self.E]
         c.CT = [np.asarray((P.T @ CT.T).T) for CT in self.CT]
-        c._located = {}
         c._dk = None
         c.anchors = np.zeros(mc, dtype=bool)
         c._Lz = R @ self._Lz
@@ -391,7 +376,7 @@ class InterfaceSystem:
             if self.nc[i]:
                 U = parts[2 * i + 1]
                 out.append(
-                    (c.C @ (c.x0 @ ell) + self.CT[i] @ lam + self.CY[i] @ U - c.forces @ ell)
+                    (c.control_resultants(ell) + self.CT[i] @ lam + self.CY[i] @ U - c.forces @ ell)
                     / self.area
                 )
         return out
@@ -489,22 +474,6 @@ class InterfaceSystem:
         """The starting point of an increment for bodies held only by the
         contact (:func:`~bemcontact.contact.touch.first_touch`)."""
         return first_touch(self, z, ell, k_prev)
-
-    def located(self, p: int, side: int):
-        """Where each contact node of side ``side`` of pair ``p`` sits on the
-        other side's contact surface: (element (n,), inside (n,), point
-        (n, 3), the other body's functional basis there (n, k)); geometry
-        only, computed once."""
-        if (p, side) not in self._located:
-            fs = self.frames
-            fr = fs.frames[p]
-            this, other = (self.cb[fs.links[p][s]] for s in (side, 1 - side))
-            od = other.body.discretization
-            X = this.body.discretization.points[fr.nodes(side)]
-            el, xi, inside = locate(od, fr.surface_elements(1 - side), X, fr.search_distance)
-            xo, _, _ = element_geometry(od.mesh, el, xi)
-            self._located[p, side] = (el, inside, xo, od.basis_at(el, xi))
-        return self._located[p, side]
 
 
 __all__ = ["InterfaceSystem", "RelativeDisplacement", "traction_modes"]

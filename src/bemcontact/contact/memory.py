@@ -296,7 +296,7 @@ class MemoryEstimate:
 
 def estimate(bodies, nodes, m: int, states: int, controls, linear,
              frame: float = 0.0) -> MemoryEstimate:
-    """The estimate for ``bodies`` (each with a ``discretization``),
+    """The estimate for ``bodies`` (each with a ``trace``, its surface),
     ``nodes`` their contact node counts, ``m`` active frame nodes, ``states``
     load states, ``controls`` the force-controlled components per body,
     ``linear`` the condensation's
@@ -307,10 +307,10 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear,
     kept = 0.0
     m3 = 3 * m
     for body, nc, ctl in zip(bodies, nodes, controls):
-        N3 = 3 * body.discretization.n_points
+        N3 = 3 * body.trace.n_points
         n3 = 3 * int(nc)
-        if linear.use_hmatrix(body.discretization.n_points):
-            system = 2.0 * _compressed_fraction(body.discretization.n_points) * N3 * N3
+        if linear.use_hmatrix(body.trace.n_points):
+            system = 2.0 * _compressed_fraction(body.trace.n_points) * N3 * N3
         else:
             system = float(N3 + 6) ** 2
         response = float(N3) * (states + m3 + ctl)

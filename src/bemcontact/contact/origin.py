@@ -1,5 +1,5 @@
-"""Bodies far from the origin (issue 24: two cubes offset by 1e12 changed
-the normal force by 0.5 % and every frame state).  Far from the origin a
+"""Bodies far from the origin (a rigid offset of 1e12 would change the
+normal force of two cubes by 0.5 % and every frame state).  Far from the origin a
 double holds a coordinate only to its ulp (1.2e-4 at 1e12), so quadrature
 points, kernels and the frame's clipping lose the digits that the bodies'
 own size needs.  The solve therefore runs on the bodies translated by an
@@ -14,13 +14,11 @@ included, gets results at the bodies' own position."""
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 
 import numpy as np
 
 from ..bem.conditions import Displacement, Traction
-from ..mesh import SurfaceMesh
 
 #: The bodies are solved relative to their own origin when their
 #: coordinates exceed this multiple of their extent.
@@ -29,7 +27,7 @@ FAR = 8.0
 
 def own_origin(bodies) -> np.ndarray | None:
     """The origin the bodies are solved relative to (None: the global one)."""
-    nodes = np.vstack([b.mesh.nodes for b in bodies])
+    nodes = np.vstack([b.trace.mesh.nodes for b in bodies])
     lo, hi = nodes.min(axis=0), nodes.max(axis=0)
     extent = float(np.max(hi - lo))
     if float(np.max(np.abs(nodes))) <= FAR * extent:
@@ -43,11 +41,7 @@ def translated_bodies(bodies, origin: np.ndarray):
     are evaluated at the user's points)."""
     out = []
     for b in bodies:
-        m = b.mesh
-        c = copy.copy(b)
-        c.mesh = SurfaceMesh(m.nodes - origin, m.elements, m.element_type, m.regions,
-                             source=m.source)
-        c._disc = None
+        c = b.translated(origin)
         c.boundary_conditions = translated_states([[b.boundary_conditions]], origin)[0][0]
         out.append(c)
     return tuple(out)

@@ -14,13 +14,12 @@ from typing import Any
 import numpy as np
 
 from .._native import core
-from ..bem.body import ElasticBody
 from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
 from ..linalg.threads import blas_threads, usable_threads
 from ..mesh.element import CORNERS
 from ..settings import Key, check_settings, setting
 from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
-from .condensation import condense
+from .flexibility import Body
 from .frame import ContactFrame
 from .frames import FrameSet
 from .increment import closed_text, solve_increment
@@ -34,7 +33,7 @@ from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
 from .pair import ContactPair
 from .predictor import Predictor
-from .recovery import recover
+from .recovery import Recovery
 from .verification import verified
 from .results import ContactResult, StepRecord
 from .reuse import Condensation, CondenseBody, condense_problem
@@ -94,7 +93,7 @@ def _sequence(name: str, value) -> list:
     return list(value)
 
 
-def _kinds(body: ElasticBody, conditions) -> np.ndarray:
+def _kinds(body, conditions) -> np.ndarray:
     """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
     known_u, _ = body.boundary_data(conditions)
     k = known_u.astype(np.int8)
@@ -113,8 +112,8 @@ class ContactProblem:
     Parameters
     ----------
     body1, body2, pair:
-        Two :class:`~bemcontact.bem.body.ElasticBody` objects with distinct
-        names and the :class:`ContactPair` between them (its ``bodies``, if
+        Two bodies with distinct names (:class:`~bemcontact.bem.body.ElasticBody`
+        objects, or any :class:`~bemcontact.contact.flexibility.Body`) and the :class:`ContactPair` between them (its ``bodies``, if
         given, must name them in this order).
     bodies, pairs:
         Instead (keywords only): an assembly, ``bodies`` (two or more, with
@@ -134,7 +133,7 @@ class ContactProblem:
     bodies (points relative to ``origin``).
     """
 
-    def __init__(self, body1: ElasticBody | None = None, body2: ElasticBody | None = None,
+    def __init__(self, body1: Body | None = None, body2: Body | None = None,
                  pair: ContactPair | None = None, *, bodies=None, pairs=None) -> None:
         if bodies is not None or pairs is not None:
             if body1 is not None or body2 is not None or pair is not None:
@@ -144,12 +143,14 @@ class ContactProblem:
             named = True
         else:
             for i, b in enumerate((body1, body2)):
-                if not isinstance(b, ElasticBody):
-                    raise ConfigError(f"body{i + 1} must be an ElasticBody, got {type(b).__name__}")
+                if not isinstance(b, Body):
+                    raise ConfigError(f"body{i + 1} must be an ElasticBody (or a Body), got "
+                                      f"{type(b).__name__}")
             bodies, pairs, named = [body1, body2], [pair], False
         for i, b in enumerate(bodies):
-            if not isinstance(b, ElasticBody):
-                raise ConfigError(f"bodies[{i}] must be an ElasticBody, got {type(b).__name__}")
+            if not isinstance(b, Body):
+                raise ConfigError(f"bodies[{i}] must be an ElasticBody (or a Body), got "
+                                  f"{type(b).__name__}")
         for i, p in enumerate(pairs):
             if not isinstance(p, ContactPair):
                 what = "pair" if not named else f"pairs[{i}]"
@@ -204,10 +205,10 @@ class ContactProblem:
         for i, (p, link) in enumerate(zip(self.pairs, self.links)):
             where = f"pairs[{i}] ({p.label})" if len(self.pairs) > 1 else "pair"
             for b, s in zip((self.bodies[a] for a in link), (p.surface1, p.surface2)):
-                if s not in b.mesh.region_names:
+                if s not in b.region_names:
                     raise ConfigError(
                         f"{where}: {b.name}: unknown contact surface {s!r}; the mesh has regions "
-                        f"{list(b.mesh.region_names)}"
+                        f"{list(b.region_names)}"
                     )
                 if s in b.boundary_conditions:
                     raise ConfigError(
@@ -246,7 +247,7 @@ class ContactProblem:
                 b1, b2 = (self._solved[a] for a in link)
                 try:
                     f = ContactFrame(
-                        b1.discretization, p.surface1, b2.discretization, p.surface2,
+                        b1.trace, p.surface1, b2.trace, p.surface2,
                         p.frame, names=(b1.name, b2.name),
                         search_distance=p.search_distance,
                         owner={"body1": 0, "body2": 1}.get(p.frame_on),
@@ -280,7 +281,7 @@ class ContactProblem:
         for p, link in zip(self.pairs, self.links):
             counts, k, corners = [], 0, 0
             for a, s in zip(link, (p.surface1, p.surface2)):
-                m = self.bodies[a].mesh
+                m = self.bodies[a].trace.mesh
                 counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
                 k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
             peak = max(peak, frame_bytes(counts, k, corners))
@@ -309,7 +310,7 @@ class ContactProblem:
         """``result`` of the bodies as solved, at the bodies' own position."""
         if self.origin is None or result is None:
             return result
-        return translated_result(result, self.origin, [b.mesh for b in self.bodies])
+        return translated_result(result, self.origin, [b.trace.mesh for b in self.bodies])
 
     def _check_memory(self, opt, steps) -> None:
         """Refuse a solve whose estimated peak exceeds the machine's available
@@ -347,10 +348,7 @@ class ContactProblem:
     def contact_modulus(self, pair: int = 0) -> float:
         """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) of the bodies of
         ``pair`` (an index into :attr:`pairs`)."""
-        return 1.0 / sum(
-            (1 - self.bodies[a].material.poisson_ratio**2) / self.bodies[a].material.youngs_modulus
-            for a in self.links[pair]
-        )
+        return 1.0 / sum(self.bodies[a].contact_compliance for a in self.links[pair])
 
     def states(self, steps) -> list[list[dict]]:
         """The boundary-condition state reached at each step, per body
@@ -384,7 +382,7 @@ class ContactProblem:
                 diff = np.flatnonzero(kinds != base[a])
                 if diff.size:
                     dof = int(diff[0])
-                    region = body.mesh.region_names[int(body.discretization.region[dof // 3])]
+                    region = body.region_names[int(body.trace.region[dof // 3])]
                     raise ConfigError(
                         f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} changes "
                         f"from {_KIND_NAMES[base[a][dof]]} to {_KIND_NAMES[kinds[dof]]}; a step "
@@ -452,7 +450,7 @@ class ContactProblem:
                 exc.result = self._back(exc.result)
                 raise
 
-    # ---------------------------------------------------------- re-solves (issue 27)
+    # ---------------------------------------------------------- re-solves
     def condense(
         self, options: SolverOptions | None = None, *, steps=None,
         progress: Reporter | None = None, condense_body: CondenseBody | None = None,
@@ -498,8 +496,8 @@ class ContactProblem:
         else:
             modes = fs.traction_modes()
             cb = tuple(
-                condense(b, fs.nodes(a), opt.threads, [st[a] for st in states], report,
-                         opt.linear, modes[a])
+                b.condense(fs.nodes(a), opt.threads, [st[a] for st in states], report,
+                           opt.linear, modes[a])
                 for a, b in enumerate(self._solved)
             )
         t2 = time.perf_counter()
@@ -507,6 +505,7 @@ class ContactProblem:
             fs, cb, [p.friction_coefficient for p in self.pairs],
             [(opt.penalty if p.penalty is None else p.penalty) * self.contact_modulus(i)
              for i, p in enumerate(self.pairs)])
+        recover = Recovery(system)
         t3 = time.perf_counter()
         steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
         predictor = (Predictor(system, fs.points) if opt.predictor == "coarse" else None)
@@ -550,7 +549,7 @@ class ContactProblem:
             if failed is not None:
                 break
             if S > 1:
-                res = recover(system, z, ell, k_start, list(records), self._solved)
+                res = recover(z, ell, k_start, list(records))
                 res.label = step.label
                 history.append(res)
                 if verified(res):  # every step's end against the contact conditions
@@ -564,7 +563,7 @@ class ContactProblem:
                                  "iteration(s)" + closed_text(system, self.pairs, z, ell, k_prev),
                                  index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
-        result = recover(system, z, ell, k_start, records, self._solved)
+        result = recover(z, ell, k_start, records)
         result.label = steps[s_ if failed else -1].label
         result.history = history if S > 1 else [result]
         if verified(result, history if S > 1 else None) and failed is None:

@@ -6,82 +6,88 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..bem.body import BodySolution
+from ..mesh.element import element_geometry
 from . import law
+from .search import locate
 from .results import ContactResult, FrameResult, InterfaceResult, PairResult
 
 
-def recover(system, z, ell, k_prev, steps, bodies) -> ContactResult:
-    """The :class:`ContactResult` at the solution ``z`` of ``system`` (an
-    :class:`~bemcontact.contact.interface.InterfaceSystem`) for the load
-    weights ``ell``: frame tractions, gaps, slips and states of every pair
-    (judged against the increment's starting slip ``k_prev``), each body's
-    full solution (one product per body with its condensed response), the
-    interface of each body against the other in each pair, forces, and the
-    Newton ``steps``."""
-    fs = system.frames
-    lam, parts = system.split(z)
-    kk = system.k(z, ell)
-    lam3 = lam.reshape(-1, 3)
-    state = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
-    k_init = system.k0X.reshape(-1, 3)
-    sols = []
-    controlled: dict[str, dict[str, np.ndarray]] = {}
-    for i, (c, b) in enumerate(zip(system.cb, bodies)):
-        d = b.discretization
-        tc = c.tractions(lam)
-        al, U = parts[2 * i], parts[2 * i + 1]
-        x = c.x0 @ ell + c.X @ lam
-        if al.size:
-            x = x + c.Rf @ al
-        if U.size:
-            x = x + c.Y @ U
-        vals = c.values @ ell
-        for ctl, Uk in zip(c.controls, U):
-            vals[ctl.dofs] = Uk
-            controlled.setdefault(b.name, {}).setdefault(
-                ctl.region, np.full(3, np.nan)
-            )[ctl.component] = Uk
-        u = np.where(c.known_u, vals, x)
-        t = np.where(c.known_u, x, vals)
-        t[c.dofs] = tc
-        sols.append(
-            BodySolution(
-                points=d.points, normals=d.normals, displacement=u.reshape(-1, 3),
-                traction=t.reshape(-1, 3), weights=d.weights, region=d.region,
-                region_names=b.mesh.region_names, discretization=d,
-                timings=dict(c.timings),
-            )
+class Recovery:
+    """The results of an :class:`~bemcontact.contact.interface.InterfaceSystem`
+    at its solutions: each body's fields from its flexibility
+    (:class:`~bemcontact.contact.flexibility.Flexibility`), the frame's and
+    the interfaces' fields; where each contact node sits on the other side's
+    surface is geometry, computed once per solve (:meth:`located`)."""
+
+    def __init__(self, system) -> None:
+        self.system = system
+        self._located: dict[tuple[int, int], tuple] = {}
+
+    def __call__(self, z, ell, k_prev, steps) -> ContactResult:
+        """The :class:`ContactResult` at the solution ``z`` for the load
+        weights ``ell``: frame tractions, gaps, slips and states of every
+        pair (judged against the increment's starting slip ``k_prev``),
+        each body's full solution, the interface of each body against the
+        other in each pair, forces, and the Newton ``steps``."""
+        system = self.system
+        fs = system.frames
+        lam, parts = system.split(z)
+        kk = system.k(z, ell)
+        lam3 = lam.reshape(-1, 3)
+        state = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
+        k_init = system.k0X.reshape(-1, 3)
+        sols = []
+        controlled: dict[str, dict[str, np.ndarray]] = {}
+        for i, c in enumerate(system.cb):
+            sol, moved = c.solution(lam, parts[2 * i], parts[2 * i + 1], ell)
+            sols.append(sol)
+            if moved:
+                controlled[c.name] = moved
+        names = [c.name for c in system.cb]
+        pairs = []
+        for p, (fr, act, link) in enumerate(zip(fs.frames, fs.act, fs.links)):
+            nodes = fs.slice(p)
+            pairs.append(_pair(self, p, fr, act, lam3[nodes], kk[nodes], k_init[nodes],
+                               k_prev[nodes], state[nodes], system.a[nodes],
+                               [sols[a] for a in link], [names[a] for a in link]))
+        first = pairs[0]
+        return ContactResult(
+            converged=all(s.converged for s in steps) and len(steps) > 0,
+            newton_iterations=sum(s.iterations for s in steps),
+            steps=steps,
+            normal_force=first.normal_force,
+            tangential_force=first.tangential_force,
+            contact_force=first.contact_force,
+            bodies=tuple(sols),
+            names=tuple(names),
+            interfaces=first.interfaces,
+            frame=first.frame,
+            pairs=pairs,
+            control_displacements=controlled,
         )
-    pairs = []
-    for p, (fr, act, link) in enumerate(zip(fs.frames, fs.act, fs.links)):
-        nodes = fs.slice(p)
-        pairs.append(_pair(system, p, fr, act, lam3[nodes], kk[nodes], k_init[nodes],
-                           k_prev[nodes], state[nodes], system.a[nodes],
-                           [sols[a] for a in link], [bodies[a] for a in link]))
-    first = pairs[0]
-    return ContactResult(
-        converged=all(s.converged for s in steps) and len(steps) > 0,
-        newton_iterations=sum(s.iterations for s in steps),
-        steps=steps,
-        normal_force=first.normal_force,
-        tangential_force=first.tangential_force,
-        contact_force=first.contact_force,
-        bodies=tuple(sols),
-        names=tuple(b.name for b in bodies),
-        interfaces=first.interfaces,
-        frame=first.frame,
-        pairs=pairs,
-        control_displacements=controlled,
-    )
+
+    def located(self, p: int, side: int, sols):
+        """Where each contact node of side ``side`` of pair ``p`` sits on the
+        other side's contact surface: (element (n,), inside (n,), point
+        (n, 3), the other body's functional basis there (n, k)); ``sols``
+        the two bodies' solutions (their surface traces)."""
+        if (p, side) not in self._located:
+            fr = self.system.frames.frames[p]
+            od = sols[1 - side].discretization
+            X = sols[side].points[fr.nodes(side)]
+            el, xi, inside = locate(od, fr.surface_elements(1 - side), X, fr.search_distance)
+            xo, _, _ = element_geometry(od.mesh, el, xi)
+            self._located[p, side] = (el, inside, xo, od.basis_at(el, xi))
+        return self._located[p, side]
 
 
-def _pair(system, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
-          bodies) -> PairResult:
+def _pair(rec, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
+          names) -> PairResult:
     """Pair p's frame fields, forces and interfaces (its active nodes'
     tractions ``lam3``, relative displacements ``kk``, their initial values
     ``k_init`` and those at the increment's start ``k_prev``, states and
-    weights ``a``; its two bodies' solutions)."""
+    weights ``a``; its two bodies' solutions and names)."""
+    system = rec.system
     Q = fr.Q[act]
 
     # frame results (inactive nodes: open, zero traction, NaN gap)
@@ -121,10 +127,10 @@ def _pair(system, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
     nbar /= max(float(np.linalg.norm(nbar)), np.finfo(float).tiny)
     Fn = float(F @ nbar)
     Ft = float(np.linalg.norm(F - Fn * nbar))
-    ifaces = tuple(_interface(system, p, side, sols[side], sols[1 - side], frame_res.state)
+    ifaces = tuple(_interface(rec, p, side, sols, names[side], frame_res.state)
                    for side in range(2))
     return PairResult(
-        names=(bodies[0].name, bodies[1].name),
+        names=(names[0], names[1]),
         surfaces=(ifaces[0].surface, ifaces[1].surface),
         normal_force=Fn, tangential_force=Ft, contact_force=F,
         interfaces=ifaces, frame=frame_res, transmitted=transmitted,
@@ -132,14 +138,13 @@ def _pair(system, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
     )
 
 
-def _interface(system, p, side, sol, other_sol, frame_state) -> InterfaceResult:
+def _interface(rec, p, side, sols, name, frame_state) -> InterfaceResult:
     """The contact nodes of side ``side`` of pair ``p``: tractions,
     pointwise gap and slip against the other side's surface, and the state
     of the frame node most strongly coupled to each node."""
-    fr = system.frames.frames[p]
-    b = system.cb[system.frames.links[p][side]].body
-    other = system.cb[system.frames.links[p][1 - side]].body
-    d = b.discretization
+    fr = rec.system.frames.frames[p]
+    sol, other_sol = sols[side], sols[1 - side]
+    d = sol.discretization
     nodes = fr.nodes(side)
     X = d.points[nodes]
     n = d.normals[nodes]
@@ -147,8 +152,8 @@ def _interface(system, p, side, sol, other_sol, frame_state) -> InterfaceResult:
     t = sol.traction[nodes]
     tn = np.einsum("pc,pc->p", t, n)
     # pointwise gap and slip against the other body's surface
-    od = other.discretization
-    el, inside, xo, phi = system.located(p, side)
+    od = other_sol.discretization
+    el, inside, xo, phi = rec.located(p, side, sols)
     k = od.mesh.elements.shape[1]
     uo = np.einsum("pk,pkc->pc", phi, other_sol.displacement[od.fconn[el, :k]])
     rel = (xo + uo) - (X + u)
@@ -163,11 +168,11 @@ def _interface(system, p, side, sol, other_sol, frame_state) -> InterfaceResult:
     # nodes off the other body's surface are open whatever their coupling
     state = np.where(coupled & inside, frame_state[strongest], 0).astype(np.int8)
     return InterfaceResult(
-        body=b.name, surface=b.mesh.region_names[int(d.region[nodes[0]])], nodes=nodes,
+        body=name, surface=sol.region_names[int(d.region[nodes[0]])], nodes=nodes,
         points=X, normals=n, displacement=u, traction=t, pressure=-tn,
         tangential_traction=t - tn[:, None] * n, gap=gap, slip=slip, state=state,
         weights=d.weights[nodes],
     )
 
 
-__all__ = ["recover"]
+__all__ = ["Recovery"]

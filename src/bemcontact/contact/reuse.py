@@ -1,6 +1,6 @@
-"""Re-solves that reuse the condensed bodies (issue 27).
+"""Re-solves that reuse the condensed bodies.
 
-The condensation (:mod:`bemcontact.contact.condensation`) depends on a body's
+The condensation (:mod:`bemcontact.bem.condensation`) depends on a body's
 mesh, material, the *kinds* of its boundary conditions (which dofs have a
 prescribed displacement, which are force controlled), its quadrature, the
 frame's traction modes and the linear solver; the *values* of the boundary
@@ -25,10 +25,9 @@ from collections.abc import Callable, Sequence
 import numpy as np
 import scipy.linalg
 
-from ..bem.body import ElasticBody
 from ..errors import ConfigError
 from ..linalg.options import LinearSolverOptions
-from .condensation import CondensedBody, condense
+from ..bem.condensation import CondensedBody
 from .frame import ContactFrame
 from .frames import FrameSet
 from .pair import ContactPair
@@ -42,18 +41,18 @@ FRAME_FIELDS = tuple(f.name for f in dataclasses.fields(ContactPair)
                      if f.name not in ("friction_coefficient", "penalty"))
 
 
-def load_basis(body: ElasticBody, states: Sequence, contact_surface) -> np.ndarray:
+def load_basis(body, states: Sequence, contact_surface) -> np.ndarray:
     """(3N, r) independent load fields whose span holds the boundary values
     of ``states`` and of any uniform displacement, traction or pressure on a
     region other than the ``contact_surface`` (a region name, or several):
     per region the unit x, y and z
     fields and the outward normal, then each state's own values; columns
     kept in that order when independent (pivoted QR)."""
-    d = body.discretization
+    d = body.trace
     N = d.n_points
     cols = []
     surfaces = {contact_surface} if isinstance(contact_surface, str) else set(contact_surface)
-    for r, name in enumerate(body.mesh.region_names):
+    for r, name in enumerate(body.region_names):
         if name in surfaces:
             continue
         idx = np.flatnonzero(d.region == r)
@@ -79,7 +78,7 @@ def load_basis(body: ElasticBody, states: Sequence, contact_surface) -> np.ndarr
     return raw[:, np.sort(piv[:rank])]
 
 
-def _kinds(body: ElasticBody, state) -> tuple[np.ndarray, list]:
+def _kinds(body, state) -> tuple[np.ndarray, list]:
     known_u, _ = body.boundary_data(state)
     return known_u, [c.dofs for c in body.controls(state)]
 
@@ -100,11 +99,11 @@ class Condensation:
     contact pairs, ``frames`` the contact frames
     (:class:`~bemcontact.contact.frames.FrameSet`), ``linear`` the linear
     solver options of the condensation, ``condensed`` per body the
-    :class:`~bemcontact.contact.condensation.CondensedBody` whose load
+    :class:`~bemcontact.bem.condensation.CondensedBody` whose load
     states are the basis fields, ``kinds`` per body (known displacement per
     dof, the dofs of each force control)."""
 
-    bodies: tuple[ElasticBody, ...]
+    bodies: tuple
     pairs: tuple[ContactPair, ...]
     frames: FrameSet
     linear: LinearSolverOptions
@@ -140,15 +139,7 @@ class Condensation:
         for a, (b, o) in enumerate(zip(bodies, self.bodies)):
             if b is o:
                 continue
-            same = (
-                b.name == o.name and b.material == o.material and b.quadrature == o.quadrature
-                and b.discretization_options == o.discretization_options
-                and b.mesh.region_names == o.mesh.region_names
-                and np.array_equal(b.mesh.nodes, o.mesh.nodes)
-                and np.array_equal(b.mesh.elements, o.mesh.elements)
-                and b.mesh.element_type == o.mesh.element_type
-                and np.array_equal(b.mesh.element_region, o.mesh.element_region)
-            )
+            same = b.same_model(o)
             if not same:
                 raise ConfigError(
                     f"body {b.name!r}: its mesh, material or quadrature differ from the "
@@ -198,6 +189,11 @@ class Condensation:
 CondenseBody = Callable[..., CondensedBody]
 
 
+def condense_any(body, *args, **kwargs):
+    """The body's own condensation (``body.condense(...)``, the body seam)."""
+    return body.condense(*args, **kwargs)
+
+
 def condense_problem(
     bodies, pairs, links, frames: FrameSet, states, threads: int | None,
     linear: LinearSolverOptions, progress=None, condense_body: CondenseBody | None = None,
@@ -207,7 +203,7 @@ def condense_problem(
     :meth:`ContactProblem.states` gives) by ``condense_body`` (default
     :func:`~bemcontact.contact.condense`; a cache may stand in for it).
     ``links[p]``: the body indices of ``pairs[p]``."""
-    run = condense_body or condense
+    run = condense_body or condense_any
     modes = frames.traction_modes()
     cbs, kinds = [], []
     for a, body in enumerate(bodies):

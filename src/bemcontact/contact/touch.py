@@ -72,7 +72,7 @@ def first_touch(system, z, ell, k_prev) -> np.ndarray:
     col = 3 * system.m
     for i, c in enumerate(system.cb):
         nf, nc = system.nf[i], system.nc[i]
-        need = c.forces @ ell - c.C @ (c.x0 @ ell) - system.CT[i] @ lam if nc else ()
+        need = c.forces @ ell - c.control_resultants(ell) - system.CT[i] @ lam if nc else ()
         for k_ in range(nc):
             s = system.L[2 * i + 1][:, k_].reshape(-1, 3)[:, 2]  # dk_n / dU
             if np.any(system.CY[i][k_] != 0.0) or not np.any(s != 0.0) or need[k_] == 0.0:

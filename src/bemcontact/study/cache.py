@@ -4,7 +4,7 @@ read back by any later process instead of assembled and factored again.
 An entry is one file ``<key>.condensed``: a header line
 ``bemcontact-condensed <FORMAT_VERSION> <key> <sha256>\\n`` followed by a NumPy
 ``.npz`` archive (no pickles) of the
-:class:`~bemcontact.contact.condensation.CondensedBody` arrays and its
+:class:`~bemcontact.bem.condensation.CondensedBody` arrays and its
 metadata.  The key is the SHA-256 of everything the condensation depends on
 (:func:`body_key`): the cache format version and the package version, the
 body's mesh (nodes, elements, element type, regions), material, quadrature
@@ -31,7 +31,7 @@ import zipfile
 import numpy as np
 
 from .._version import __version__
-from ..contact.condensation import CondensedBody, condense
+from ..bem.condensation import CondensedBody, condense
 
 #: Version of the entry format and of what the key covers; bumped when either changes.
 FORMAT_VERSION = 1

@@ -1,8 +1,12 @@
-"""Condensation: each body reduced to its contact surface (the partitioned
-step of the LLM method), its BEM system assembled and factored once."""
+"""Condensation: a BEM body reduced to its contact surface (the partitioned
+step of the LLM method), its system assembled and factored once: the body's
+interface flexibility, handed to the contact solver through the members of
+the flexibility protocol (:class:`~bemcontact.contact.flexibility.Flexibility`)
+and recovering its own fields from given contact tractions."""
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -10,13 +14,13 @@ from typing import Any
 import numpy as np
 import scipy.linalg
 
-from ..bem.body import ElasticBody
-from ..bem.operators import assemble_system
 from ..errors import ConfigError
 from ..linalg.bordered import solve_bordered
-from ..bem.compressed import CompressedSystem
 from ..linalg.options import LinearSolverOptions
 from ..progress import ProgressEvent, Reporter
+from .solution import BodySolution
+from .compressed import CompressedSystem
+from .operators import assemble_system
 
 
 @dataclass
@@ -76,9 +80,72 @@ class CondensedBody:
     def Yc(self) -> np.ndarray:
         return self.Y[self.dofs]
 
+    # -- the flexibility protocol's members besides F, u0, Rc, Yc, modes
+    @property
+    def name(self) -> str:
+        return self.body.name
+
+    @property
+    def points(self) -> np.ndarray:
+        """(n_c, 3) positions of the contact nodes."""
+        return self.body.discretization.points[self.nodes]
+
+    @property
+    def CX(self) -> np.ndarray:
+        """(nc, modes) resultant of each controlled component per mode amplitude."""
+        return self.C @ self.X
+
+    def control_resultants(self, ell: np.ndarray) -> np.ndarray:
+        """(nc,) the controlled components' resultants of the load weights ``ell``."""
+        return self.C @ (self.x0 @ ell)
+
+    @property
+    def CY(self) -> np.ndarray:
+        """(nc, nc) resultants per platen translation; a translation that
+        strains nothing (the body is held only by the contact in that
+        direction) has none, exactly, so an open contact shows as a
+        singular Newton matrix."""
+        CY = self.C @ self.Y
+        E = self.body.material.youngs_modulus
+        for k_ in range(len(self.controls)):
+            size = math.sqrt(self.C[k_].sum())
+            if abs(CY[k_, k_]) <= 1e-8 * E * size:
+                CY[k_, :] = 0.0
+                CY[:, k_] = 0.0
+        return CY
+
+    def solution(self, lam: np.ndarray, alpha: np.ndarray, U: np.ndarray,
+                 ell: np.ndarray) -> tuple[BodySolution, dict[str, np.ndarray]]:
+        """The body's fields for the frame tractions ``lam`` (mode
+        amplitudes), free rigid-mode amplitudes ``alpha``, platen
+        translations ``U`` and load weights ``ell``, and the translation of
+        each force-controlled region (NaN in components not controlled)."""
+        b, d = self.body, self.body.discretization
+        tc = self.tractions(lam)
+        x = self.x0 @ ell + self.X @ lam
+        if alpha.size:
+            x = x + self.Rf @ alpha
+        if U.size:
+            x = x + self.Y @ U
+        vals = self.values @ ell
+        controlled: dict[str, np.ndarray] = {}
+        for ctl, Uk in zip(self.controls, U):
+            vals[ctl.dofs] = Uk
+            controlled.setdefault(ctl.region, np.full(3, np.nan))[ctl.component] = Uk
+        u = np.where(self.known_u, vals, x)
+        t = np.where(self.known_u, x, vals)
+        t[self.dofs] = tc
+        sol = BodySolution(
+            points=d.points, normals=d.normals, displacement=u.reshape(-1, 3),
+            traction=t.reshape(-1, 3), weights=d.weights, region=d.region,
+            region_names=b.mesh.region_names, discretization=d,
+            timings=dict(self.timings),
+        )
+        return sol, controlled
+
 
 def condense(
-    body: ElasticBody, nodes: np.ndarray, threads: int | None = None, states=None,
+    body, nodes: np.ndarray, threads: int | None = None, states=None,
     progress: Reporter | None = None, linear: LinearSolverOptions | None = None,
     modes=None, *, load_fields: np.ndarray | None = None,
 ) -> CondensedBody:
@@ -92,7 +159,9 @@ def condense(
     (:mod:`bemcontact.progress`).  ``linear`` chooses dense operators (LAPACK
     LU) or compressed ones (H-matrix, H-LU with one step of iterative
     refinement; :class:`~bemcontact.linalg.LinearSolverOptions`).
-    ``modes`` (:class:`~bemcontact.contact.modes.TractionModes`): condense on
+    ``modes`` (the contact frame's traction modes: ``size`` columns, their
+    right-hand sides ``right(G, out=)`` and ``tractions(c)``;
+    :class:`~bemcontact.contact.modes.TractionModes`): condense on
     the contact traction fields of the frame's tractions instead of on unit
     tractions at each contact dof (the contact solver's choice)."""
     d = body.discretization
