@@ -526,7 +526,7 @@ def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
 
 
 
-# ------------------------------------------------------------------ sweep (issue 27)
+# ------------------------------------------------------------------ sweep
 
 
 def _sweep_parser(sub) -> None:

@@ -12,7 +12,18 @@ from typing import Any
 
 
 class BemcontactError(Exception):
-    """Base class of every error raised by bemcontact."""
+    """Base class of every error raised by bemcontact.
+
+    ``location``: where the error lies, as data (e.g. ``{"step": 2}``,
+    ``{"pair": 1}``, ``{"body": "sphere"}``; indices from 0), for callers
+    that map it to their own terms (the problem-file reader to its fields);
+    ``detail``: the message without the location written into it."""
+
+    def __init__(self, message: str = "", *args: Any, location: dict | None = None,
+                 detail: str | None = None) -> None:
+        super().__init__(message, *args)
+        self.location: dict = dict(location or {})
+        self.detail: str = message if detail is None else detail
 
 
 class MeshError(BemcontactError, ValueError):

@@ -45,10 +45,10 @@ def _drop_roundoff(M: np.ndarray, axis: int = 0) -> np.ndarray:
     A rigid mode that moves a frictionless body in the contact's plane (a
     slide, a turn about the normal) changes no normal gap in exact
     arithmetic; computed, its normal components are round-off of the frame
-    normals (1e-17 of its tangential ones).  Left in, they make the start of
-    a solve and the singular diagnosis depend on the processor: a penalty
-    balance on those components moved a free cube by 2e15 mm on one machine,
-    every node opened and the residual was exactly zero.  Zeroed, such a
+    normals (1e-17 of its tangential ones).  Left in, they would make the
+    start of a solve and the singular diagnosis depend on the processor: a
+    penalty balance on those components can move a free cube by 2e15 mm,
+    open every node and leave a residual of exactly zero.  Zeroed, such a
     mode moves no gap, the Newton matrix has an exactly zero column for it
     and the LU's zero pivot reports the singular matrix on every machine."""
     if M.size:
@@ -134,21 +134,19 @@ class InterfaceSystem:
         npairs = len(fs.frames)
         mu_p = np.broadcast_to(np.asarray(mu, dtype=float), (npairs,))
         rs_p = np.broadcast_to(np.asarray(r_scale, dtype=float), (npairs,))
-        #: the friction coefficient of each pair, and of each frame node
+        #: the friction coefficient of each pair
         self.mu = float(mu_p[0]) if npairs == 1 else mu_p.copy()
-        self.mu_base = mu_p[fs.pair_of]
         self.act = fs.act[0] if npairs == 1 else None
         m = fs.m
         self.m = m
-        #: the friction coefficient of each node in the current increment
-        #: (0 while the node closes: :meth:`start_increment`)
-        self.mu_nodes = self.mu_base.copy()
         a = fs.weights
         self.a = a
         self.area = float(a.sum())
         self.r_scale = rs_p[fs.pair_of]
         self.size = fs.size
-        self.r = self.r_scale / self.size  # r_n = r_t = c E*/h_j
+        #: the contact law of the frame nodes: friction, augmentation
+        #: r_n = r_t = c E*/h_j and the history (:class:`~.law.CoulombLaw`)
+        self.law = law.CoulombLaw(mu_p[fs.pair_of], self.r_scale / self.size)
         #: the pair of each node (clusters of the predictor stay in one)
         self.pair_of = fs.pair_of.copy()
         #: an aggregated system's prolongation (3m_fine, 3m) and restriction
@@ -218,9 +216,9 @@ class InterfaceSystem:
         self.K = K
         self.k0X = k0X
         self.k0u = k0u
+        # the history starts from the relative tangential positions
+        self.law.reference = k0X.reshape(-1, 3)[:, :2].copy()
         self._dk: tuple | None = None  # (cdofs, cols, K rows): _rows_of_k
-        #: the first-touch nodes not yet released (:meth:`start_increment`)
-        self.anchors = np.zeros(m, dtype=bool)
         # dk/dz = [K, L...] (3m, nz) and the linear rows besides the law (ne, nz)
         self._Lz = np.hstack([L for L in self.L]) if self.L else np.zeros((3 * m, 0))
         m3, nz = 3 * m, 3 * m + self._Lz.shape[1]
@@ -261,14 +259,16 @@ class InterfaceSystem:
                 kk = kk + L @ v
         return kk.reshape(-1, 3)
 
-    def k_initial_t(self) -> np.ndarray:
-        return self.k0X.reshape(-1, 3)[:, :2].copy()
-
     def start_increment(self, z: np.ndarray, ell: np.ndarray,
-                        k_prev: np.ndarray | None = None) -> np.ndarray | None:
-        """Before an increment from the converged ``z`` at load ``ell``: a
-        node with a gap there closes, if at all, during the increment, and
-        its slip is counted from where it touches, which is not known in
+                        reference: np.ndarray | None = None) -> None:
+        """Before an increment from the converged ``z`` at load ``ell``, the
+        law's history and coefficients in effect (:attr:`law`).  Its stick
+        ``reference`` is the relative tangential displacement at ``z``
+        (``reference`` instead when given, as the coarse levels of the
+        predictor do: their fine system's, restricted).
+
+        A node with a gap at ``z`` closes, if at all, during the increment,
+        and its slip is counted from where it touches, which is not known in
         advance.  With the stick reference at the increment's start, the
         tangential part of its approach would be resisted as if it were slip
         (a frame normal tilted against the approach: docs/frame.md).  Such a
@@ -285,30 +285,35 @@ class InterfaceSystem:
         growing as 1/h^2, locked in while the node sticks (0.016 / 0.06 p0
         at a/h = 12 / 25).  The anchor holds the bodies; it is no loading
         history: once other nodes of its pair touch, the stick references
-        ``k_prev`` ((m, 2)) are returned without the displacement its
-        tangential traction caused, so the increment spreads that force over
-        the contact as an elastic stick solution does.  Returns the
-        references (``k_prev`` when unchanged; None without it)."""
-        gap = self.k(z, ell)[:, 2]
+        leave out the displacement its tangential traction caused, so the
+        increment spreads that force over the contact as an elastic stick
+        solution does."""
+        law_ = self.law
+        kz = self.k(z, ell)
+        gap = kz[:, 2]
         tol = 1e-8 * self.size
         npairs = int(self.pair_of.max(initial=-1)) + 1
         # the first touch of each pair (every pair holds its bodies)
         first = np.full(npairs, np.inf)
         np.minimum.at(first, self.pair_of, gap)
         first = np.maximum(first, 0.0)
-        self.mu_nodes = np.where(gap > first[self.pair_of] + tol, 0.0, self.mu_base)
+        law_.mu = np.where(gap > first[self.pair_of] + tol, 0.0, law_.friction)
         touching = gap <= tol
         held = np.zeros(npairs, dtype=bool)  # others than the anchors touch
-        np.logical_or.at(held, self.pair_of, touching & ~self.anchors)
-        done = self.anchors & touching & held[self.pair_of]
-        self.anchors = ((self.mu_nodes > 0.0) & ~touching) | (self.anchors & ~done)
-        if k_prev is None or not done.any():
-            return k_prev
+        np.logical_or.at(held, self.pair_of, touching & ~law_.anchors)
+        done = law_.anchors & touching & held[self.pair_of]
+        law_.anchors = ((law_.mu > 0.0) & ~touching) | (law_.anchors & ~done)
+        if reference is not None:
+            law_.reference = reference
+            return
+        law_.reference = kz[:, :2].copy()
+        if not done.any():
+            return
         lam = self.split(z)[0].reshape(-1, 3)
         nodes = np.flatnonzero(done)
         cols = (3 * nodes[:, None] + np.arange(2)).ravel()
         dk = (self.K[:, cols] @ lam[nodes, :2].ravel()).reshape(-1, 3)
-        return k_prev - dk[:, :2]
+        law_.reference = law_.reference - dk[:, :2]
 
     def aggregated(self, groups: np.ndarray) -> InterfaceSystem:
         """The same interface system on clusters of frame nodes: one
@@ -345,22 +350,20 @@ class InterfaceSystem:
         c = object.__new__(InterfaceSystem)
         c.frame, c.frames, c.cb, c.mu, c.act, c.m = self.frame, self.frames, self.cb, self.mu, None, mc
         c.pair_of = pair
-        c.mu_base = self.mu_base[first]
-        c.mu_nodes = c.mu_base.copy()
         c.a, c.area, c.r_scale = ac, self.area, self.r_scale[first]
         c.size = np.sqrt(P1.T @ self.size**2)
-        c.r = c.r_scale / c.size
+        c.law = law.CoulombLaw(self.law.friction[first], c.r_scale / c.size)
         c.prolongation, c.restriction = P, R
         c.nf, c.nc, c.CY = self.nf, self.nc, self.CY
         RK = R @ self.K  # (3mc, 3m): K is C-ordered, read once
         c.K = np.ascontiguousarray((P.T @ RK.T).T)
         del RK
         c.k0X, c.k0u = R @ self.k0X, R @ self.k0u
+        c.law.reference = c.k0X.reshape(-1, 3)[:, :2].copy()
         c.L = [R @ L for L in self.L]
         c.E = [np.asarray((P.T @ E.T).T) for E in self.E]
         c.CT = [np.asarray((P.T @ CT.T).T) for CT in self.CT]
         c._dk = None
-        c.anchors = np.zeros(mc, dtype=bool)
         c._Lz = R @ self._Lz
         m3 = 3 * self.m
         c._eq = np.hstack([np.asarray((P.T @ self._eq[:, :m3].T).T), self._eq[:, m3:]])
@@ -381,17 +384,15 @@ class InterfaceSystem:
                 )
         return out
 
-    def residual(self, z, ell, k_prev):
+    def residual(self, z, ell):
         lam, parts = self.split(z)
-        kk = self.k(z, ell)
-        phi = law.residual(lam.reshape(-1, 3), kk, k_prev, self.mu_nodes, self.r, self.r).ravel()
+        phi = self.law.residual(lam.reshape(-1, 3), self.k(z, ell)).ravel()
         eq = self._rows(lam, parts, ell)
         return np.concatenate([phi, *eq]) if eq else phi
 
-    def _law(self, z, ell, k_prev):
+    def _law(self, z, ell):
         lam, _ = self.split(z)
-        Jl, Jk, state = law.jacobian(lam.reshape(-1, 3), self.k(z, ell), k_prev, self.mu_nodes,
-                                     self.r, self.r)
+        Jl, Jk, state = self.law.jacobian(lam.reshape(-1, 3), self.k(z, ell))
         closed = np.flatnonzero(state != law.OPEN)
         return Jl, Jk, state, closed, (3 * closed[:, None] + np.arange(3)).ravel()
 
@@ -422,7 +423,6 @@ class InterfaceSystem:
         """J[rows, cols] for the rows of the closed nodes (Jl_j on the
         diagonal block + Jk_j dk_j/dz) and the linear rows; ``cols`` sorted,
         containing the closed nodes' own columns."""
-        m3 = 3 * self.m
         mc = closed.size
         dk = self._rows_of_k(cdofs, cols)
         # C order, as dk: each row a combination of three rows of dk, written
@@ -443,21 +443,21 @@ class InterfaceSystem:
         J[3 * mc :] = self._eq[:, cols]
         return J
 
-    def jacobian(self, z, ell, k_prev):
+    def jacobian(self, z, ell):
         """The rows of the generalized Jacobian that are not those of open
         nodes (an open node's row is the identity: lam_j = 0), with every
         column: returns ``(J[rows], rows, state)``."""
-        Jl, Jk, state, closed, cdofs = self._law(z, ell, k_prev)
+        Jl, Jk, state, closed, cdofs = self._law(z, ell)
         m3, nz = 3 * self.m, z.size
         rows = np.concatenate([cdofs, np.arange(m3, nz)])
         return self._block(Jl, Jk, closed, cdofs, np.arange(nz)), rows, state
 
-    def newton_system(self, z, ell, k_prev, phi):
+    def newton_system(self, z, ell, phi):
         """The Newton system J dz = -phi with the open nodes' rows (the
         identity: dz_j = -lam_j) eliminated: returns ``(A, b, keep, state)``
         with A = J[keep, keep] (closed nodes and extra unknowns) and
         b = -phi[keep] - J[keep, open] dz_open; dz[open] = -phi[open]."""
-        Jl, Jk, state, closed, cdofs = self._law(z, ell, k_prev)
+        Jl, Jk, state, closed, cdofs = self._law(z, ell)
         m3, nz = 3 * self.m, z.size
         keep = np.concatenate([cdofs, np.arange(m3, nz)])
         A = self._block(Jl, Jk, closed, cdofs, keep)
@@ -470,10 +470,10 @@ class InterfaceSystem:
         b[cdofs.size :] -= self._eq[:, :m3] @ dlam
         return A, b, keep, state
 
-    def first_touch(self, z, ell, k_prev) -> np.ndarray:
+    def first_touch(self, z, ell) -> np.ndarray:
         """The starting point of an increment for bodies held only by the
         contact (:func:`~bemcontact.contact.touch.first_touch`)."""
-        return first_touch(self, z, ell, k_prev)
+        return first_touch(self, z, ell)
 
 
 __all__ = ["InterfaceSystem", "RelativeDisplacement", "traction_modes"]

@@ -119,4 +119,42 @@ def jacobian(
     return Jl, Jk, state
 
 
-__all__ = ["OPEN", "STICK", "SLIP", "STATE_NAMES", "contact_state", "residual", "jacobian"]
+class CoulombLaw:
+    """The law of an interface system's frame nodes (every pair's, stacked):
+    it owns each node's friction coefficient ``friction`` (its pair's) and
+    augmentation ``r`` (r_n = r_t, stress per length), the coefficient in
+    effect in the current increment ``mu`` (0 for a node that closes in
+    it: :meth:`~bemcontact.contact.interface.InterfaceSystem.start_increment`),
+    the first-touch ``anchors``, and the history: the stick ``reference``
+    (m, 2), the relative tangential displacement the increment's slip is
+    counted from.  ``state``, ``residual`` and ``jacobian`` are those of
+    the module's functions at that history; a rolling law would convect
+    ``reference``."""
+
+    def __init__(self, friction, augmentation) -> None:
+        self.friction = np.asarray(friction, dtype=float)
+        m = self.friction.size
+        self.r = np.broadcast_to(np.asarray(augmentation, dtype=float), (m,)).copy()
+        self.mu = self.friction.copy()
+        self.anchors = np.zeros(m, dtype=bool)
+        self.reference = np.zeros((m, 2))
+
+    @property
+    def m(self) -> int:
+        return self.friction.size
+
+    def state(self, lam: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """(m,) OPEN, STICK or SLIP (:func:`contact_state`)."""
+        return contact_state(lam, k, self.reference, self.mu, self.r, self.r)
+
+    def residual(self, lam: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Phi (m, 3) (:func:`residual`)."""
+        return residual(lam, k, self.reference, self.mu, self.r, self.r)
+
+    def jacobian(self, lam: np.ndarray, k: np.ndarray):
+        """(J_lam, J_k, state) (:func:`jacobian`)."""
+        return jacobian(lam, k, self.reference, self.mu, self.r, self.r)
+
+
+__all__ = ["OPEN", "STICK", "SLIP", "STATE_NAMES", "CoulombLaw", "contact_state", "residual",
+           "jacobian"]

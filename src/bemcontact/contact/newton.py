@@ -67,13 +67,14 @@ class NewtonSteps:
     of the double one) — for systems of at least :data:`SINGLE_MIN`
     unknowns; smaller ones are factored in double every iteration.  GMRES runs to
     ``forcing`` x |b| (default 1e-10: the steps of the exact method, so the
-    same iterates; a looser min(1e-2, 0.1 err) changed the path: 10 and 13
+    same iterates; a looser min(1e-2, 0.1 err) changes the path: 10 and 13
     iterations where the exact steps take 9 and 7).  Whenever GMRES does not
     converge, or the single-precision LU has a pivot below 1e-7 of the
     largest, the double LU is computed, with its singularity diagnosis.
     Measured on Cattaneo–Mindlin at a/h = 25 (closed blocks of up to 8,000
-    unknowns): Newton 390 s (68 double LUs) -> 291 s (19 factorizations,
-    2,578 GMRES iterations), the same iterates to 1e-15.  The factorization
+    unknowns): Newton 291 s (19 factorizations, 2,578 GMRES iterations)
+    against 390 s with a double LU in every iteration (68), the same
+    iterates to 1e-15.  The factorization
     is kept across increments (in a tangential increment the closed set
     stays, only stick and slip change).  ``stats`` counts factorizations and
     Krylov iterations."""
@@ -245,7 +246,7 @@ class Watchdog:
         return zt, pt, alpha
 
 
-def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: SolverOptions,
+def newton(system, z: np.ndarray, ell: np.ndarray, opt: SolverOptions,
            report: Reporter | None = None, index: int = 0, total: int = 0,
            solver: NewtonSteps | None = None):
     """Solve one load increment of the interface system ``system``
@@ -256,8 +257,8 @@ def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: Solv
     a new one as ``opt.newton_steps`` says)."""
     hist: list[float] = []
     steps: list[float] = []
-    z = system.first_touch(z, ell, k_prev)
-    phi = system.residual(z, ell, k_prev)
+    z = system.first_touch(z, ell)
+    phi = system.residual(z, ell)
     m3 = 3 * system.m
     scale = max(np.abs(phi).max(initial=0.0), np.abs(z[:m3]).max(initial=0.0), 1e-300)
     search = Watchdog(opt.line_search_sigma, opt.watchdog, opt.min_step)
@@ -278,13 +279,13 @@ def newton(system, z: np.ndarray, ell: np.ndarray, k_prev: np.ndarray, opt: Solv
         if it >= opt.max_iterations:
             msg = f"no convergence in {opt.max_iterations} iterations"
             break
-        A, b, keep, _ = system.newton_system(z, ell, k_prev, phi)
+        A, b, keep, _ = system.newton_system(z, ell, phi)
         dz = solver(A, b, keep, phi)
         del A
         if isinstance(dz, str):
             msg = dz
             break
-        taken = search.step(lambda v: system.residual(v, ell, k_prev), z, dz,
+        taken = search.step(lambda v: system.residual(v, ell), z, dz,
                             0.5 * float(phi @ phi))
         if taken is None:
             msg = "line search failed (no decrease of the residual along the Newton direction)"

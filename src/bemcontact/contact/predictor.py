@@ -79,6 +79,7 @@ class Predictor:
 
     def __init__(self, system: InterfaceSystem, points: np.ndarray,
                  min_nodes: int = COARSE_MIN) -> None:
+        self.system = system
         self.levels: list[InterfaceSystem] = []
         cur, x = system, np.asarray(points, dtype=float)
         while cur.m > min_nodes:
@@ -98,10 +99,10 @@ class Predictor:
         return [c.m for c in self.levels]
 
     def predict(self, z: np.ndarray, ell_prev: np.ndarray, ell: np.ndarray,
-                k_prev: np.ndarray, opt: SolverOptions) -> np.ndarray:
+                opt: SolverOptions) -> np.ndarray:
         """The fine system's starting point for the increment from the
-        converged ``z`` at load ``ell_prev`` to ``ell`` (``k_prev`` the
-        tangential relative displacements at its start): ``z`` plus the
+        converged ``z`` at load ``ell_prev`` to ``ell`` (the fine system's
+        law holds the increment's stick reference): ``z`` plus the
         prolongated change of the coarse solution (``z`` itself when there
         is no coarse level or the coarsest that converged gave nothing)."""
         self.iterations = 0
@@ -109,7 +110,7 @@ class Predictor:
             return z
         copt = dataclasses.replace(opt, tolerance=max(opt.tolerance, COARSE_TOLERANCE),
                                    newton_steps="lu", progress=False)
-        return self._predict(0, z, ell_prev, ell, k_prev, copt)
+        return self._predict(0, z, ell_prev, ell, self.system.law.reference, copt)
 
     def _predict(self, i, z, ell_prev, ell, k_prev, opt):
         """The starting point of level i - 1 (the fine system for i = 0)
@@ -119,14 +120,14 @@ class Predictor:
         zc0 = np.concatenate([c.restriction @ z[:m3], z[m3:]])
         kt = np.column_stack([k_prev, np.zeros(len(k_prev))]).ravel()
         kc = (c.restriction @ kt).reshape(-1, 3)[:, :2]
-        c.start_increment(zc0, ell_prev)
+        c.start_increment(zc0, ell_prev, reference=kc)
         start = zc0
         if i + 1 < len(self.levels):
             start = self._predict(i + 1, zc0, ell_prev, ell, kc, opt)
-        zc, rec, msg = newton(c, start, ell, kc, opt)
+        zc, rec, msg = newton(c, start, ell, opt)
         self.iterations += rec.iterations
         if msg is not None and start is not zc0:
-            zc, rec, msg = newton(c, zc0, ell, kc, opt)
+            zc, rec, msg = newton(c, zc0, ell, opt)
             self.iterations += rec.iterations
         if msg is not None:
             return z

@@ -113,8 +113,9 @@ class ContactProblem:
     ----------
     body1, body2, pair:
         Two bodies with distinct names (:class:`~bemcontact.bem.body.ElasticBody`
-        objects, or any :class:`~bemcontact.contact.flexibility.Body`) and the :class:`ContactPair` between them (its ``bodies``, if
-        given, must name them in this order).
+        objects, or any :class:`~bemcontact.contact.flexibility.Body`) and the
+        :class:`ContactPair` between them (its ``bodies``, if given, must name
+        them in this order).
     bodies, pairs:
         Instead (keywords only): an assembly, ``bodies`` (two or more, with
         distinct names) and ``pairs`` (one or more, each naming its two
@@ -255,14 +256,17 @@ class ContactProblem:
                         projected=p.relative_displacement == "projected",
                     )
                 except ConfigError as exc:
+                    exc.location.setdefault("pair", i)
                     if len(self.pairs) == 1:
                         raise
-                    raise ConfigError(f"pairs[{i}] ({p.label}): {exc}") from None
+                    raise ConfigError(f"pairs[{i}] ({p.label}): {exc}", location=exc.location,
+                                      detail=exc.detail) from None
                 if len(self.pairs) > 1 and not f.active.any():
-                    raise ConfigError(
-                        f"pairs[{i}] ({p.label}): the two surfaces are nowhere within the "
-                        f"search distance ({f.search_distance:g}) of each other, so they can "
-                        "never touch; move the bodies or raise contact.search_distance")
+                    detail = (f"the two surfaces are nowhere within the search distance "
+                              f"({f.search_distance:g}) of each other, so they can never touch; "
+                              "move the bodies or raise contact.search_distance")
+                    raise ConfigError(f"pairs[{i}] ({p.label}): {detail}",
+                                      location={"pair": i}, detail=detail)
                 frames.append(f)
             self._frames = FrameSet(frames, self.links, len(self.bodies))
         return self._frames
@@ -360,35 +364,41 @@ class ContactProblem:
         base = [_kinds(b, c) for b, c in zip(self.bodies, current)]
         out = []
         for i, step in enumerate(steps):
-            if not isinstance(step, LoadStep):
-                raise ConfigError(f"steps[{i}] must be a LoadStep, got {type(step).__name__}")
-            where = f"step {i + 1}{f' ({step.label})' if step.label else ''}: "
-            current = [dict(c) for c in current]
-            for name, changes in step.conditions.items():
-                if name not in names:
-                    raise ConfigError(f"{where}unknown body {name!r}; the bodies are {names}")
-                a = names.index(name)
-                body = self.bodies[a]
-                checked = body.checked_conditions(changes, where=where)
-                for s_ in surfaces[a]:
-                    if s_ in checked:
-                        raise ConfigError(
-                            f"{where}{name}: region {s_!r} is "
-                            f"{'the' if len(surfaces[a]) == 1 else 'a'} contact surface; it "
-                            "cannot carry a boundary condition"
-                        )
-                current[a].update(checked)
-                kinds = _kinds(body, current[a])
-                diff = np.flatnonzero(kinds != base[a])
-                if diff.size:
-                    dof = int(diff[0])
-                    region = body.region_names[int(body.trace.region[dof // 3])]
+            try:
+                if not isinstance(step, LoadStep):
                     raise ConfigError(
-                        f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} changes "
-                        f"from {_KIND_NAMES[base[a][dof]]} to {_KIND_NAMES[kinds[dof]]}; a step "
-                        "may change values, not kinds (give the component its later kind from "
-                        "the start, e.g. Force with value 0)"
-                    )
+                        f"steps[{i}] must be a LoadStep, got {type(step).__name__}")
+                where = f"step {i + 1}{f' ({step.label})' if step.label else ''}: "
+                current = [dict(c) for c in current]
+                for name, changes in step.conditions.items():
+                    if name not in names:
+                        raise ConfigError(f"{where}unknown body {name!r}; the bodies are {names}")
+                    a = names.index(name)
+                    body = self.bodies[a]
+                    checked = body.checked_conditions(changes, where=where)
+                    for s_ in surfaces[a]:
+                        if s_ in checked:
+                            raise ConfigError(
+                                f"{where}{name}: region {s_!r} is "
+                                f"{'the' if len(surfaces[a]) == 1 else 'a'} contact surface; it "
+                                "cannot carry a boundary condition"
+                            )
+                    current[a].update(checked)
+                    kinds = _kinds(body, current[a])
+                    diff = np.flatnonzero(kinds != base[a])
+                    if diff.size:
+                        dof = int(diff[0])
+                        region = body.region_names[int(body.trace.region[dof // 3])]
+                        raise ConfigError(
+                            f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} "
+                            f"changes from {_KIND_NAMES[base[a][dof]]} to "
+                            f"{_KIND_NAMES[kinds[dof]]}; a step may change values, not kinds "
+                            "(give the component its later kind from the start, e.g. Force "
+                            "with value 0)"
+                        )
+            except ConfigError as exc:  # where, as data: the step
+                exc.location.setdefault("step", i)
+                raise
             out.append(current)
         return out
 
@@ -512,7 +522,6 @@ class ContactProblem:
         records: list[StepRecord] = []
         history: list[ContactResult] = []
         z = system.zero()
-        k_prev = system.k_initial_t()
         failed: str | None = None
         S = len(steps)
         ell = np.zeros(S)
@@ -525,19 +534,17 @@ class ContactProblem:
             name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
             for i in range(1, step.increments + 1):
                 tau = i / step.increments
-                # the state this increment starts from, and its stick references
-                k_prev = system.start_increment(z, ell, k_prev)
+                # the state this increment starts from: the law's history
+                system.start_increment(z, ell)
                 ell_prev, ell = ell, (1 - tau) * prev + tau * target
-                k_start = k_prev
                 done += 1
                 if report is not None:
                     report(ProgressEvent("increment", "newton",
                                          f"{name} increment {i}/{step.increments}"
-                                         + closed_text(system, self.pairs, z, ell_prev, k_prev),
+                                         + closed_text(system, self.pairs, z, ell_prev),
                                          index=done, total=total))
-                z, rec, msg, k_start = solve_increment(system, predictor, z, ell_prev, ell,
-                                                       k_prev, opt, report, done, total,
-                                                       steps_solver)
+                z, rec, msg = solve_increment(system, predictor, z, ell_prev, ell, opt, report,
+                                              done, total, steps_solver)
                 rec.load_factor = tau
                 rec.step = s_ + 1
                 rec.label = step.label
@@ -545,11 +552,10 @@ class ContactProblem:
                 if msg is not None:
                     failed = f"{name}, increment {i}/{step.increments}: {msg}"
                     break
-                k_prev = system.k(z, ell)[:, :2].copy()
             if failed is not None:
                 break
             if S > 1:
-                res = recover(z, ell, k_start, list(records))
+                res = recover(z, ell, list(records))
                 res.label = step.label
                 history.append(res)
                 if verified(res):  # every step's end against the contact conditions
@@ -560,10 +566,10 @@ class ContactProblem:
         if report is not None and failed is None:
             its = sum(r.iterations for r in records)
             report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
-                                 "iteration(s)" + closed_text(system, self.pairs, z, ell, k_prev),
+                                 "iteration(s)" + closed_text(system, self.pairs, z, ell),
                                  index=total, total=total, seconds=t4 - t3))
         # states are those of the last increment, judged against its starting slip
-        result = recover(z, ell, k_start, records)
+        result = recover(z, ell, records)
         result.label = steps[s_ if failed else -1].label
         result.history = history if S > 1 else [result]
         if verified(result, history if S > 1 else None) and failed is None:

@@ -7,7 +7,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..mesh.element import element_geometry
-from . import law
 from .search import locate
 from .results import ContactResult, FrameResult, InterfaceResult, PairResult
 
@@ -23,10 +22,10 @@ class Recovery:
         self.system = system
         self._located: dict[tuple[int, int], tuple] = {}
 
-    def __call__(self, z, ell, k_prev, steps) -> ContactResult:
+    def __call__(self, z, ell, steps) -> ContactResult:
         """The :class:`ContactResult` at the solution ``z`` for the load
         weights ``ell``: frame tractions, gaps, slips and states of every
-        pair (judged against the increment's starting slip ``k_prev``),
+        pair (judged against the law's stick reference, the increment's),
         each body's full solution, the interface of each body against the
         other in each pair, forces, and the Newton ``steps``."""
         system = self.system
@@ -34,7 +33,8 @@ class Recovery:
         lam, parts = system.split(z)
         kk = system.k(z, ell)
         lam3 = lam.reshape(-1, 3)
-        state = law.contact_state(lam3, kk, k_prev, system.mu_nodes, system.r, system.r)
+        state = system.law.state(lam3, kk)
+        k_prev = system.law.reference
         k_init = system.k0X.reshape(-1, 3)
         sols = []
         controlled: dict[str, dict[str, np.ndarray]] = {}
@@ -110,8 +110,8 @@ def _pair(rec, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
         state=full(state_act.astype(np.int8), np.int8(0)),
         weights=fr.weights,
         slip_increment=full(increment),
-        friction=full(np.asarray(system.mu_nodes[nodes], dtype=float)),
-        augmentation=full(np.asarray(system.r[nodes], dtype=float), np.inf),
+        friction=full(np.asarray(system.law.mu[nodes], dtype=float)),
+        augmentation=full(np.asarray(system.law.r[nodes], dtype=float), np.inf),
     )
     F = np.einsum("j,jcl,jl->c", a, Q, lam3)  # force on body 2
     # what the coupling transmits to each body (-lam to body 1, +lam to body

@@ -40,7 +40,7 @@ def _root(g, step: float) -> float | None:
     return None
 
 
-def first_touch(system, z, ell, k_prev) -> np.ndarray:
+def first_touch(system, z, ell) -> np.ndarray:
     """Predictor for bodies held only by the contact, whose rigid motion
     the Newton matrix cannot fix while their nodes are open.
 
@@ -64,7 +64,7 @@ def first_touch(system, z, ell, k_prev) -> np.ndarray:
     if sum(system.nf) and not lam.any():  # a solve's start: no traction yet
         z = z.copy()
         _float(system, z, ell, lam)
-    state = law.contact_state(lam.reshape(-1, 3), system.k(z, ell), k_prev, system.mu_nodes, system.r, system.r)
+    state = system.law.state(lam.reshape(-1, 3), system.k(z, ell))
     if (state != law.OPEN).any():
         return z
     z = z.copy()
@@ -83,7 +83,7 @@ def first_touch(system, z, ell, k_prev) -> np.ndarray:
             # k is affine in z: only U_k moves
             u = _root(
                 lambda du, s=s, ct=ct, t=float(need[k_]):
-                float(ct @ np.maximum(0.0, -system.r * (kn0 + s * du))) - t,
+                float(ct @ np.maximum(0.0, -system.law.r * (kn0 + s * du))) - t,
                 max(float(np.abs(kn0).max()), 1e-12) / float(np.abs(s).max()),
             )
             if u is not None:
@@ -121,7 +121,7 @@ def _float(system, z, ell, lam) -> np.ndarray:
         largest = 0.0
         for j, s, e, target in modes:
             u = _root(lambda du, s=s, e=e, t=target:
-                      float(e @ np.maximum(0.0, -system.r * (kn + s * du))) - t,
+                      float(e @ np.maximum(0.0, -system.law.r * (kn + s * du))) - t,
                       scale / float(np.abs(s).max()))
             if u:
                 z[j] += u

@@ -294,9 +294,7 @@ class _Reader(Checker):
             try:
                 problem.contact_problem().states(steps)
             except ConfigError as exc:
-                text = one_line(str(exc))
-                m = re.match(r"^step (\d+)", text)
-                k = int(m.group(1)) - 1 if m else 0
+                k = exc.location.get("step", 0)
                 self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
         if check_overlap:
             try:  # the frame's memory estimate, before the frame allocates
@@ -306,10 +304,8 @@ class _Reader(Checker):
             try:
                 problem.contact_problem().frames
             except ConfigError as exc:
-                text = one_line(str(exc))
-                m = re.match(r"^pairs\[(\d+)\] \([^)]*\): (.*)$", text)
-                sp = specs[int(m.group(1))] if m else specs[0]
-                self.wrap(f"{sp.where}.surfaces", ConfigError(m.group(2)) if m else exc,
+                sp = specs[exc.location.get("pair", 0)]
+                self.wrap(f"{sp.where}.surfaces", ConfigError(one_line(exc.detail)),
                           [sp.pair.surface1, sp.pair.surface2])
         if self.figures_skipped:  # stacklevel: the caller of load_problem
             warnings.warn(FIGURES_SKIPPED, OptionalDependencyWarning, stacklevel=3)

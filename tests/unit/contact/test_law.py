@@ -301,3 +301,24 @@ def test_per_node_penalties_broadcast():
     # a penalty array of the wrong length is refused (numpy's broadcast error)
     with pytest.raises(ValueError):
         law.residual(lam, k, kp, MU, np.ones(m + 1), 1.0)
+
+
+def test_the_law_object_is_the_functions_at_its_history():
+    """CoulombLaw (the interface system's ``law``) owns the coefficients in
+    effect, the augmentation and the stick reference: its state, residual
+    and Jacobian are the module's functions with those, bit for bit."""
+    rng = np.random.default_rng(3)
+    m = 40
+    lam = rng.standard_normal((m, 3))
+    k = 1e-3 * rng.standard_normal((m, 3))
+    friction = rng.uniform(0.0, 0.5, m)
+    r = rng.uniform(1e3, 1e4, m)
+    c = law.CoulombLaw(friction, r)
+    assert np.array_equal(c.mu, friction) and c.mu is not c.friction
+    c.reference = 1e-3 * rng.standard_normal((m, 2))
+    c.mu[::3] = 0.0  # closing nodes: frictionless in this increment
+    assert np.array_equal(c.state(lam, k), law.contact_state(lam, k, c.reference, c.mu, r, r))
+    assert np.array_equal(c.residual(lam, k), law.residual(lam, k, c.reference, c.mu, r, r))
+    for a, b in zip(c.jacobian(lam, k), law.jacobian(lam, k, c.reference, c.mu, r, r)):
+        assert np.array_equal(a, b)
+    assert c.m == m and not c.anchors.any()

@@ -17,12 +17,11 @@ def partial_slip():
     """The two-block problem of test_problem at Q = 0.85 mu P after two
     Newton iterations (a partial-slip point), and the system."""
     system = _system(_problem(), [bc.LoadStep(label="P"), _q(0.85 * MU * P)])
-    z, _, msg = newton(system, system.zero(), np.array([1.0, 0.0]), system.k_initial_t(),
-                       bc.SolverOptions())
+    z, _, msg = newton(system, system.zero(), np.array([1.0, 0.0]), bc.SolverOptions())
     assert msg is None
-    k_prev = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
+    system.law.reference = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
     ell = np.array([0.0, 1.0])
-    return system, z, ell, k_prev
+    return system, z, ell
 
 
 @pytest.fixture(autouse=True)
@@ -38,18 +37,18 @@ def test_reused_factorization_gives_the_direct_step(partial_slip):
     with that factorization: it equals the fresh LU's step to the forcing
     tolerance (relative residual 1e-10 -> step error <= 1e-8 with the
     matrix's condition; measured 6e-14; 8 of 16 nodes changed state)."""
-    system, z, ell, k_prev = partial_slip
+    system, z, ell = partial_slip
     steps = NewtonSteps(max_change=0.1)
-    phi = system.residual(z, ell, k_prev)
-    A, b, keep, state0 = system.newton_system(z, ell, k_prev, phi)
+    phi = system.residual(z, ell)
+    A, b, keep, state0 = system.newton_system(z, ell, phi)
     dz = steps(A, b, keep, phi)
     # the first step: a single-precision LU as GMRES preconditioner
     assert steps.stats["factorizations"] == 1 and steps.stats["krylov_steps"] == 1
     first = steps.stats["krylov_iterations"]
     assert 0 < first <= 5
     z1 = z + dz
-    phi1 = system.residual(z1, ell, k_prev)
-    A1, b1, keep1, state1 = system.newton_system(z1, ell, k_prev, phi1)
+    phi1 = system.residual(z1, ell)
+    A1, b1, keep1, state1 = system.newton_system(z1, ell, phi1)
     assert np.array_equal(keep1, keep) and not np.array_equal(state1, state0)
     assert (state1 == law.STICK).any() and (state1 == law.SLIP).any()
     reused = steps(A1.copy(), b1, keep1, phi1, forcing=1e-10)
@@ -96,21 +95,21 @@ def test_the_newton_matrix_is_the_jacobian_block_and_its_rows_of_k_are_kept(part
     iterate's block (stick/slip changed, same closed set) reuses them and
     equals a block built from scratch bit for bit; a different closed set
     gathers new rows."""
-    system, z, ell, k_prev = partial_slip
-    phi = system.residual(z, ell, k_prev)
-    A, b, keep, _ = system.newton_system(z, ell, k_prev, phi)
+    system, z, ell = partial_slip
+    phi = system.residual(z, ell)
+    A, b, keep, _ = system.newton_system(z, ell, phi)
     assert A.flags.c_contiguous
-    J, rows, _ = system.jacobian(z, ell, k_prev)
+    J, rows, _ = system.jacobian(z, ell)
     np.testing.assert_array_equal(A, J[:, keep])
     kept = system._dk
     dz = NewtonSteps(reuse=False)(A.copy(), b, keep, phi)
     z1 = z + dz
-    phi1 = system.residual(z1, ell, k_prev)
-    A1, _, keep1, _ = system.newton_system(z1, ell, k_prev, phi1)
+    phi1 = system.residual(z1, ell)
+    A1, _, keep1, _ = system.newton_system(z1, ell, phi1)
     assert np.array_equal(keep1, keep) and system._dk[2] is kept[2]
     system.release()
     assert system._dk is None
-    fresh, _, _, _ = system.newton_system(z1, ell, k_prev, phi1)
+    fresh, _, _, _ = system.newton_system(z1, ell, phi1)
     np.testing.assert_array_equal(fresh, A1)
     # a closed set with one node fewer: new rows, K's
     cdofs = keep[keep < 3 * system.m][3:]
@@ -124,9 +123,9 @@ def test_newton_step_of_a_c_ordered_matrix(partial_slip):
     """The step from the C-ordered Newton matrix, by a double LU and by a
     single-precision LU with GMRES, solves A dz = b: residual <= 1e-12 and
     <= 1e-9 of |b| (the forcing 1e-10 times the matrix's condition)."""
-    system, z, ell, k_prev = partial_slip
-    phi = system.residual(z, ell, k_prev)
-    A, b, keep, _ = system.newton_system(z, ell, k_prev, phi)
+    system, z, ell = partial_slip
+    phi = system.residual(z, ell)
+    A, b, keep, _ = system.newton_system(z, ell, phi)
     for reuse, tol in ((False, 1e-12), (True, 1e-9)):
         dz = NewtonSteps(reuse=reuse)(A.copy(), b, keep, phi)
         r = A @ dz[keep] - b

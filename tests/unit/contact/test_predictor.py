@@ -120,8 +120,8 @@ def test_a_coarse_level_that_fails_is_skipped(sphere_on_block, monkeypatch):
     prob, steps = sphere_on_block
     real = predictor.newton
 
-    def failing(system, z, ell, k_prev, opt, *args, **kw):
-        znew, rec, _ = real(system, z, ell, k_prev, opt, *args, **kw)
+    def failing(system, z, ell, opt, *args, **kw):
+        znew, rec, _ = real(system, z, ell, opt, *args, **kw)
         return znew, rec, "no convergence (test)"
 
     monkeypatch.setattr(predictor, "newton", failing)

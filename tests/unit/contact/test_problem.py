@@ -159,13 +159,13 @@ def test_newton_matrix_matches_central_differences():
 
     system = _system(_problem(), [bc.LoadStep(label="P"), _q(68.0)])
     opt = bc.SolverOptions()
-    z, rec, msg = newton(system, system.zero(), np.array([1.0, 0.0]), system.k_initial_t(), opt)
+    z, rec, msg = newton(system, system.zero(), np.array([1.0, 0.0]), opt)
     assert msg is None
     ell = np.array([0.0, 1.0])
-    k_prev = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
-    z, _, msg = newton(system, z, ell, k_prev, bc.SolverOptions(max_iterations=2))
+    system.law.reference = system.k(z, np.array([1.0, 0.0]))[:, :2].copy()
+    z, _, msg = newton(system, z, ell, bc.SolverOptions(max_iterations=2))
     z[[2, 3 * 5 + 2]] = -P  # two nodes pulled open (flat blocks: all closed otherwise)
-    J, rows, state = system.jacobian(z, ell, k_prev)
+    J, rows, state = system.jacobian(z, ell)
     counts = np.bincount(state, minlength=3)
     assert counts[law.STICK] > 0 and counts[law.SLIP] > 0 and counts[law.OPEN] > 0
     assert system.nc == [0, 2]  # the platen's x and z translations are columns
@@ -177,11 +177,11 @@ def test_newton_matrix_matches_central_differences():
         eps = 1e-6 * lam_scale if j < m3 else 1e-6 * np.abs(z[j])
         e = np.zeros_like(z)
         e[j] = eps
-        Jfd[:, j] = (system.residual(z + e, ell, k_prev) - system.residual(z - e, ell, k_prev))[rows] / (2 * eps)
+        Jfd[:, j] = (system.residual(z + e, ell) - system.residual(z - e, ell))[rows] / (2 * eps)
     assert np.abs(J - Jfd).max() <= 1e-6 * np.abs(J).max()
     # and open rows of the full residual are lam_j itself (identity rows)
     open_rows = np.setdiff1d(np.arange(z.size), rows)
-    phi = system.residual(z, ell, k_prev)
+    phi = system.residual(z, ell)
     assert np.array_equal(phi[open_rows], z[open_rows])
     # Newton's reduced system (open rows eliminated, only the closed block
     # factored) gives the step of the full one, to round-off (measured 1e-15)
@@ -189,7 +189,7 @@ def test_newton_matrix_matches_central_differences():
 
     Jfull = np.eye(z.size)
     Jfull[rows] = J
-    A, b, keep, _ = system.newton_system(z, ell, k_prev, phi)
+    A, b, keep, _ = system.newton_system(z, ell, phi)
     np.testing.assert_array_equal(keep, rows)
     dz = newton_direction(A, b, keep, phi)
     want = np.linalg.solve(Jfull, -phi)
@@ -338,3 +338,21 @@ def test_the_first_touch_node_keeps_no_locked_in_shear():
     assert np.all(after_q.state[[anchor, *near]] == law.STICK)
     assert abs(qx[anchor] - qx[near].mean()) <= 0.05 * abs(qx[near].mean()), (qx[anchor],
                                                                               qx[near])
+
+
+def test_errors_carry_their_step_and_pair_as_data():
+    """A bad load step names its index in ``location`` (the problem-file
+    reader maps it to its field without reading the message); a frame error
+    of a pair its pair index, and ``detail`` the message without it."""
+    prob = _problem()
+    bad = [bc.LoadStep(label="P"),
+           bc.LoadStep({"upper": {"zmax": bc.Displacement((0.0, None, -0.01))}}, label="push")]
+    with pytest.raises(bc.ConfigError, match=r"^step 2 \(push\): upper: region 'zmax'") as info:
+        prob.states(bad)
+    assert info.value.location == {"step": 1}
+    with pytest.raises(bc.ConfigError) as info:
+        prob.states([bc.LoadStep(), "P"])
+    assert info.value.location == {"step": 1}
+    err = bc.ConfigError("pairs[1] (a/b): too far", location={"pair": 1}, detail="too far")
+    assert err.location == {"pair": 1} and err.detail == "too far" and str(err).startswith("pairs[1]")
+    assert bc.ConfigError("plain").detail == "plain" and bc.ConfigError("plain").location == {}
