@@ -8,14 +8,12 @@ from __future__ import annotations
 
 
 import numpy as np
-import scipy.sparse
-import scipy.sparse.linalg
 
-from ..errors import ConfigError
 from . import law
 from .frame import ContactFrame
 from .frames import FrameSet
-from .modes import CHUNK, TractionModes
+from .kinematics import Kinematics
+from .modes import TractionModes
 from .touch import first_touch
 
 
@@ -32,87 +30,6 @@ def _frame_set(frame: ContactFrame | FrameSet) -> FrameSet:
     return FrameSet.single(frame) if isinstance(frame, ContactFrame) else frame
 
 
-#: Entries of a rigid mode's or platen translation's column of dk/dz (and of
-#: its equilibrium row) below this fraction of the column's (row's) largest
-#: are round-off of an exact zero (docs/theory.md, "Verified solutions").
-ROUNDOFF = 1e-11
-
-
-def _drop_roundoff(M: np.ndarray, axis: int = 0) -> np.ndarray:
-    """``M`` with the entries below :data:`ROUNDOFF` of the largest of their
-    column (``axis`` 0) or row (``axis`` 1) set to exactly zero, in place.
-
-    A rigid mode that moves a frictionless body in the contact's plane (a
-    slide, a turn about the normal) changes no normal gap in exact
-    arithmetic; computed, its normal components are round-off of the frame
-    normals (1e-17 of its tangential ones).  Left in, they would make the
-    start of a solve and the singular diagnosis depend on the processor: a
-    penalty balance on those components can move a free cube by 2e15 mm,
-    open every node and leave a residual of exactly zero.  Zeroed, such a
-    mode moves no gap, the Newton matrix has an exactly zero column for it
-    and the LU's zero pivot reports the singular matrix on every machine."""
-    if M.size:
-        big = np.abs(M).max(axis=axis, keepdims=True)
-        M[np.abs(M) <= ROUNDOFF * big] = 0.0
-    return M
-
-
-class RelativeDisplacement:
-    """The relative displacement k (3m, local components) from the nodal
-    forces' work rows g = Bᵀ x (∫ N_j [u] per frame node, local
-    components): ``weighted``, k_j = g_j / a_j; ``projected``, k = Qᵀ (M_f^-1
-    ⊗ I_3) Q g, the nodal values of the L2 projection on the frame basis
-    (rotated to global components first: the nodes' bases differ on a
-    curved frame), with the weighted row at the nodes whose support the
-    other body covers only in part (:attr:`ContactFrame.covered`).  Called
-    on (3m,) or (3m, r) arrays, projected in blocks of
-    :data:`~bemcontact.contact.modes.CHUNK` columns: with ``overwrite``
-    in place (no copy of a (3m)² block)."""
-
-    def __init__(self, frame: ContactFrame, act: np.ndarray) -> None:
-        self.m = act.size
-        a = frame.weights[act]
-        self.a3 = np.repeat(a, 3)
-        self.lu = None
-        if frame.projected and self.m:
-            self.Q = frame.Q[act]
-            self.Qt = np.ascontiguousarray(self.Q.transpose(0, 2, 1))
-            # a node whose support the other body covers only in part (the rim
-            # of a punch on a larger block: slivers down to 1e-10 of it), and
-            # its neighbours, keep the weighted row a_j k_j = g_j: the
-            # projection's value there rests on a sliver (M_f as ill-conditioned
-            # as the slivers are thin), M_f^-1 would carry that noise inward,
-            # and the rim nodes' late state changes would reach their
-            # neighbours' gaps (the punch: 26 Newton iterations, 14 with the
-            # ring weighted)
-            edge = ~frame.covered[act]
-            keep = scipy.sparse.diags((~edge).astype(float))
-            M = keep @ scipy.sparse.csr_array(frame.mass[np.ix_(act, act)]) + scipy.sparse.diags(
-                np.where(edge, a, 0.0))
-            self.lu = scipy.sparse.linalg.splu(scipy.sparse.csc_array(M))
-
-    def _project(self, G: np.ndarray) -> np.ndarray:
-        m, r = self.m, G.shape[1]
-        g = np.matmul(self.Q, G.reshape(m, 3, r))  # global components
-        g = self.lu.solve(np.asfortranarray(g.reshape(m, 3 * r))).reshape(m, 3, r)
-        # back to local (matmul: einsum's contraction over the first index
-        # took 0.57 s on a 3,395 x 3 x 2,048 block, measured)
-        return np.matmul(self.Qt, g).reshape(3 * m, r)
-
-    def __call__(self, G, overwrite: bool = False) -> np.ndarray:
-        """W G; a (3m, r) ``G`` is overwritten only with ``overwrite``."""
-        G = np.asarray(G, dtype=float)
-        if self.lu is None:
-            return G / (self.a3 if G.ndim == 1 else self.a3[:, None])
-        if G.ndim == 1:
-            return self._project(G[:, None])[:, 0]
-        if not (overwrite and G.flags.writeable):
-            G = G.copy()
-        for s in range(0, G.shape[1], CHUNK):
-            G[:, s : s + CHUNK] = self._project(G[:, s : s + CHUNK])
-        return G
-
-
 class InterfaceSystem:
     """The nonsmooth interface system of eq. 17 after condensing the bodies:
     unknowns z = (lam (m active frame nodes x 3, local; every pair's,
@@ -127,116 +44,64 @@ class InterfaceSystem:
 
     def __init__(self, frame, cb, mu, r_scale) -> None:
         fs = _frame_set(frame)
-        self.frames = fs
-        #: the frame of a single pair (None for an assembly)
-        self.frame = fs.frames[0] if len(fs.frames) == 1 else None
-        self.cb = cb
         npairs = len(fs.frames)
         mu_p = np.broadcast_to(np.asarray(mu, dtype=float), (npairs,))
         rs_p = np.broadcast_to(np.asarray(r_scale, dtype=float), (npairs,))
+        kin = Kinematics.assemble(fs, cb)
+        self._set(fs, cb, float(mu_p[0]) if npairs == 1 else mu_p.copy(),
+                  fs.act[0] if npairs == 1 else None, fs.weights, fs.size, fs.pair_of.copy(),
+                  mu_p[fs.pair_of], rs_p[fs.pair_of], kin, kin.extra_columns(),
+                  kin.linear_rows(float(fs.weights.sum())))
+
+    @classmethod
+    def from_parts(cls, frames, cb, mu, act, a, size, pair_of, friction, r_scale,
+                   kinematics, Lz, eq, prolongation=None, restriction=None,
+                   area=None) -> InterfaceSystem:
+        """An interface system from its parts (the predictor's aggregated
+        systems: :func:`~bemcontact.contact.predictor.aggregated`)."""
+        self = cls.__new__(cls)
+        self._set(frames, cb, mu, act, a, size, pair_of, friction, r_scale, kinematics, Lz,
+                  eq, prolongation, restriction, area)
+        return self
+
+    def _set(self, frames, cb, mu, act, a, size, pair_of, friction, r_scale, kin, Lz, eq,
+             prolongation=None, restriction=None, area=None) -> None:
+        """Every attribute, in one place: the frames and flexibilities; the
+        friction coefficient of each pair ``mu``; the active nodes of a
+        single pair ``act`` (None for an assembly or a coarse level); per
+        node its weight ``a``, size, pair, friction and augmentation scale;
+        the :class:`~.kinematics.Kinematics`, its extra unknowns' columns
+        ``Lz`` and the linear rows ``eq``; a coarse level's prolongation and
+        restriction of tractions."""
+        self.frames = frames
+        #: the frame of a single pair (None for an assembly)
+        self.frame = frames.frames[0] if len(frames.frames) == 1 else None
+        self.cb = cb
         #: the friction coefficient of each pair
-        self.mu = float(mu_p[0]) if npairs == 1 else mu_p.copy()
-        self.act = fs.act[0] if npairs == 1 else None
-        m = fs.m
-        self.m = m
-        a = fs.weights
+        self.mu = mu
+        self.act = act
         self.a = a
-        self.area = float(a.sum())
-        self.r_scale = rs_p[fs.pair_of]
-        self.size = fs.size
+        self.m = a.size
+        self.area = float(a.sum()) if area is None else area
+        self.size = size
+        #: the pair of each node (clusters of the predictor stay in one)
+        self.pair_of = pair_of
+        self.r_scale = r_scale
         #: the contact law of the frame nodes: friction, augmentation
         #: r_n = r_t = c E*/h_j and the history (:class:`~.law.CoulombLaw`)
-        self.law = law.CoulombLaw(mu_p[fs.pair_of], self.r_scale / self.size)
-        #: the pair of each node (clusters of the predictor stay in one)
-        self.pair_of = fs.pair_of.copy()
+        self.law = law.CoulombLaw(friction, r_scale / size)
         #: an aggregated system's prolongation (3m_fine, 3m) and restriction
-        #: (3m, 3m_fine) of tractions (:meth:`aggregated`); None here
-        self.prolongation = self.restriction = None
-        weighs = [RelativeDisplacement(f, act) for f, act in zip(fs.frames, fs.act)]
-
-        def weigh(G, p, overwrite=False):
-            return weighs[p](G, overwrite=overwrite)
-
-        K = np.zeros((3 * m, 3 * m))
-        k0X = np.zeros(3 * m)
-        k0u = np.zeros((3 * m, cb[0].u0.shape[1]))
-        # extra unknowns: per body, alpha then U; L[b] their columns in k
-        self.nf = [c.Rc.shape[1] for c in cb]
-        self.nc = [c.Yc.shape[1] for c in cb]
-        self.L = []
-        self.E = []
-        self.CT = []  # (nc, 3m): resultants of the controlled components per lam
-        self.CY = []  # (nc, nc): ... per platen translation
-        for i, c in enumerate(cb):
-            if c.modes is None or c.modes.size != 3 * m:
-                raise ConfigError(
-                    f"{c.name}: condense the body on the frame's traction modes "
-                    "(condense(..., modes=traction_modes(frame)[i]))"
-                )
-            # nodal forces per frame traction B (signed); the relative
-            # displacement k = sum_a W_a x_a[dofs], W_a = weigh(B_a^T),
-            # on the rows of the pairs the body is in
-            Bt = c.modes.B.T.tocsr()  # (3m, 3n) sparse
-            Rc, Yc = c.Rc, c.Yc
-            Li = np.zeros((3 * m, Rc.shape[1]))
-            Ly = np.zeros((3 * m, Yc.shape[1]))
-            for p, side in fs.pairs_of(i):
-                f, dp = fs.frames[p], fs.dofs(p)
-                Bp = Bt[dp]
-                # the work rows B^T F, weighed once per pair below (weigh is
-                # linear: one projection of the sum instead of one per body;
-                # F = X[dofs] gathered first: a sparse product with the
-                # Fortran-ordered X itself took 1.7x longer, measured)
-                K[dp] += Bp @ c.F
-                if f.rule == "mortar":
-                    # positions: exact for any overlap because (*) holds
-                    X = c.points.ravel()
-                else:
-                    # point evaluation violates (*): take the initial gap from each
-                    # node's offset to the frame surface (the paper's g0), so the
-                    # position of the origin does not enter
-                    X = np.zeros((c.points.shape[0], 3))
-                    X[fs.rows(p, side)] = f.offsets(side)
-                    X = X.ravel()
-                k0X[dp] += weigh(Bp @ X, p)
-                k0u[dp] += weigh(Bp @ c.u0, p)
-                Li[dp] = weigh(Bp @ Rc, p)
-                Ly[dp] = weigh(Bp @ Yc, p)
-            self.L.append(_drop_roundoff(Li))
-            self.L.append(_drop_roundoff(Ly))
-            # equilibrium in the free rigid modes, scaled to traction units
-            self.E.append(_drop_roundoff(np.asarray((Bt @ Rc).T), axis=1))
-            self.CT.append(_drop_roundoff(np.asarray(c.CX), axis=1))
-            self.CY.append(c.CY)
-        for p in range(npairs):
-            dp = fs.dofs(p)
-            w = weigh(K[dp], p, overwrite=True)  # in place when projected
-            if not np.shares_memory(w, K):
-                K[dp] = w
-        self.K = K
-        self.k0X = k0X
-        self.k0u = k0u
+        #: (3m, 3m_fine) of tractions; None here
+        self.prolongation, self.restriction = prolongation, restriction
+        self.kinematics = kin
+        self.K, self.k0X, self.k0u = kin.K, kin.k0X, kin.k0u
+        self.L, self.E, self.CT, self.CY = kin.L, kin.E, kin.CT, kin.CY
+        self.nf, self.nc = kin.nf, kin.nc
         # the history starts from the relative tangential positions
-        self.law.reference = k0X.reshape(-1, 3)[:, :2].copy()
+        self.law.reference = self.k0X.reshape(-1, 3)[:, :2].copy()
         self._dk: tuple | None = None  # (cdofs, cols, K rows): _rows_of_k
         # dk/dz = [K, L...] (3m, nz) and the linear rows besides the law (ne, nz)
-        self._Lz = np.hstack([L for L in self.L]) if self.L else np.zeros((3 * m, 0))
-        m3, nz = 3 * m, 3 * m + self._Lz.shape[1]
-        eq = []
-        col = m3
-        for i in range(len(cb)):
-            nf, nc = self.nf[i], self.nc[i]
-            if nf:
-                r = np.zeros((nf, nz))
-                r[:, :m3] = self.E[i] / self.area
-                eq.append(r)
-            if nc:
-                r = np.zeros((nc, nz))
-                r[:, :m3] = self.CT[i] / self.area
-                r[:, col + nf : col + nf + nc] = self.CY[i] / self.area
-                eq.append(r)
-            col += nf + nc
-        self._eq = np.vstack(eq) if eq else np.zeros((0, nz))
+        self._Lz, self._eq = Lz, eq
 
     # -- vectors
     def zero(self) -> np.ndarray:
@@ -314,60 +179,6 @@ class InterfaceSystem:
         cols = (3 * nodes[:, None] + np.arange(2)).ravel()
         dk = (self.K[:, cols] @ lam[nodes, :2].ravel()).reshape(-1, 3)
         law_.reference = law_.reference - dk[:, :2]
-
-    def aggregated(self, groups: np.ndarray) -> InterfaceSystem:
-        """The same interface system on clusters of frame nodes: one
-        traction per cluster (``groups`` (m,) the cluster of each node,
-        0..mc-1), taken by all its nodes (the prolongation P, 0 and 1), and
-        one relative displacement per cluster, the area-weighted mean of its
-        nodes' (the restriction R = diag(1/a_c) Pᵀ diag(a)); the extra
-        unknowns stay.  K_c = R K P, the affine terms and the columns of the
-        extra unknowns restricted by R, the equilibrium and resultant rows
-        taken on P lam_c (exact for a traction constant over each cluster);
-        augmentation r = r_scale / sqrt(cluster area), like a node's.  For
-        the coarse-to-fine predictor (:mod:`~bemcontact.contact.predictor`):
-        its Newton solve only (no recovery: ``act`` is None)."""
-        g = np.asarray(groups, dtype=np.int64)
-        if g.shape != (self.m,) or g.min(initial=0) < 0:
-            raise ConfigError(
-                f"aggregated: one cluster index >= 0 per frame node ({self.m}) expected")
-        mc = int(g.max(initial=-1)) + 1
-        P1 = scipy.sparse.csr_matrix((np.ones(self.m), (np.arange(self.m), g)), shape=(self.m, mc))
-        P = scipy.sparse.kron(P1, scipy.sparse.identity(3), format="csr")
-        ac = P1.T @ self.a
-        if np.any(ac <= 0.0):
-            raise ConfigError("aggregated: every cluster needs at least one frame node")
-        R = (scipy.sparse.diags(np.repeat(1.0 / ac, 3)) @ P.T
-             @ scipy.sparse.diags(np.repeat(self.a, 3))).tocsr()
-        # a cluster lies in one pair (the predictor's clusters do): it takes
-        # that pair's friction and augmentation
-        pair = np.zeros(mc, dtype=np.int64)
-        pair[g] = self.pair_of
-        if np.any(pair[g] != self.pair_of):
-            raise ConfigError("aggregated: a cluster spans two contact pairs")
-        first = np.zeros(mc, dtype=np.int64)
-        first[g[::-1]] = np.arange(self.m)[::-1]  # a node of each cluster
-        c = object.__new__(InterfaceSystem)
-        c.frame, c.frames, c.cb, c.mu, c.act, c.m = self.frame, self.frames, self.cb, self.mu, None, mc
-        c.pair_of = pair
-        c.a, c.area, c.r_scale = ac, self.area, self.r_scale[first]
-        c.size = np.sqrt(P1.T @ self.size**2)
-        c.law = law.CoulombLaw(self.law.friction[first], c.r_scale / c.size)
-        c.prolongation, c.restriction = P, R
-        c.nf, c.nc, c.CY = self.nf, self.nc, self.CY
-        RK = R @ self.K  # (3mc, 3m): K is C-ordered, read once
-        c.K = np.ascontiguousarray((P.T @ RK.T).T)
-        del RK
-        c.k0X, c.k0u = R @ self.k0X, R @ self.k0u
-        c.law.reference = c.k0X.reshape(-1, 3)[:, :2].copy()
-        c.L = [R @ L for L in self.L]
-        c.E = [np.asarray((P.T @ E.T).T) for E in self.E]
-        c.CT = [np.asarray((P.T @ CT.T).T) for CT in self.CT]
-        c._dk = None
-        c._Lz = R @ self._Lz
-        m3 = 3 * self.m
-        c._eq = np.hstack([np.asarray((P.T @ self._eq[:, :m3].T).T), self._eq[:, m3:]])
-        return c
 
     def _rows(self, lam, parts, ell):
         """Linear equations besides the law: free-mode equilibrium and the
@@ -476,4 +287,4 @@ class InterfaceSystem:
         return first_touch(self, z, ell)
 
 
-__all__ = ["InterfaceSystem", "RelativeDisplacement", "traction_modes"]
+__all__ = ["InterfaceSystem", "traction_modes"]

@@ -8,7 +8,7 @@ every node the rigid approach makes overlap (the overlap disk of a sphere is
 (Cattaneo–Mindlin, docs/benchmarks.md: 38 iterations at a/h = 12, 67 at
 a/h = 25).  Here each increment is first solved on the frame aggregated into
 clusters of about :data:`CLUSTER` neighbouring nodes
-(:meth:`~bemcontact.contact.interface.InterfaceSystem.aggregated`), and that
+(:func:`aggregated`), and that
 recursively down to :data:`COARSE_MIN` nodes, every level started from the
 one below it.  The coarse solution's change over the increment, prolongated
 (each node takes its cluster's traction change), is added to the fine
@@ -28,7 +28,9 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import scipy.sparse
 
+from ..errors import ConfigError
 from .interface import InterfaceSystem
 from .newton import newton
 from .options import SolverOptions
@@ -72,6 +74,47 @@ def clusters(points: np.ndarray, size: int = CLUSTER, groups: np.ndarray | None 
     return out
 
 
+def aggregated(system: InterfaceSystem, groups: np.ndarray) -> InterfaceSystem:
+    """The same interface system on clusters of frame nodes: one
+    traction per cluster (``groups`` (m,) the cluster of each node,
+    0..mc-1), taken by all its nodes (the prolongation P, 0 and 1), and
+    one relative displacement per cluster, the area-weighted mean of its
+    nodes' (the restriction R = diag(1/a_c) Pᵀ diag(a)); the extra
+    unknowns stay.  K_c = R K P, the affine terms and the columns of the
+    extra unknowns restricted by R, the equilibrium and resultant rows
+    taken on P lam_c (exact for a traction constant over each cluster);
+    augmentation r = r_scale / sqrt(cluster area), like a node's.  For
+    the coarse-to-fine predictor (:mod:`~bemcontact.contact.predictor`):
+    its Newton solve only (no recovery: ``act`` is None)."""
+    g = np.asarray(groups, dtype=np.int64)
+    m = system.m
+    if g.shape != (m,) or g.min(initial=0) < 0:
+        raise ConfigError(
+            f"aggregated: one cluster index >= 0 per frame node ({m}) expected")
+    mc = int(g.max(initial=-1)) + 1
+    P1 = scipy.sparse.csr_matrix((np.ones(m), (np.arange(m), g)), shape=(m, mc))
+    P = scipy.sparse.kron(P1, scipy.sparse.identity(3), format="csr")
+    ac = P1.T @ system.a
+    if np.any(ac <= 0.0):
+        raise ConfigError("aggregated: every cluster needs at least one frame node")
+    R = (scipy.sparse.diags(np.repeat(1.0 / ac, 3)) @ P.T
+         @ scipy.sparse.diags(np.repeat(system.a, 3))).tocsr()
+    # a cluster lies in one pair (the predictor's clusters do): it takes
+    # that pair's friction and augmentation
+    pair = np.zeros(mc, dtype=np.int64)
+    pair[g] = system.pair_of
+    if np.any(pair[g] != system.pair_of):
+        raise ConfigError("aggregated: a cluster spans two contact pairs")
+    first = np.zeros(mc, dtype=np.int64)
+    first[g[::-1]] = np.arange(m)[::-1]  # a node of each cluster
+    m3 = 3 * m
+    eq = np.hstack([np.asarray((P.T @ system._eq[:, :m3].T).T), system._eq[:, m3:]])
+    return InterfaceSystem.from_parts(
+        system.frames, system.cb, system.mu, None, ac, np.sqrt(P1.T @ system.size**2), pair,
+        system.law.friction[first], system.r_scale[first],
+        system.kinematics.restricted(P, R), R @ system._Lz, eq, P, R, system.area)
+
+
 class Predictor:
     """The coarse levels of an interface ``system`` whose active frame nodes
     lie at ``points`` (m, 3), and the prediction of an increment's starting
@@ -84,7 +127,7 @@ class Predictor:
         cur, x = system, np.asarray(points, dtype=float)
         while cur.m > min_nodes:
             g = clusters(x, groups=cur.pair_of)
-            coarse = cur.aggregated(g)
+            coarse = aggregated(cur, g)
             w = cur.a[:, None] * x
             x = np.stack([np.bincount(g, w[:, i], coarse.m) for i in range(3)], axis=1)
             x /= coarse.a[:, None]
@@ -135,4 +178,4 @@ class Predictor:
         return z + np.concatenate([c.prolongation @ d[:mc3], d[mc3:]])
 
 
-__all__ = ["CLUSTER", "COARSE_MIN", "COARSE_TOLERANCE", "Predictor", "clusters"]
+__all__ = ["CLUSTER", "COARSE_MIN", "COARSE_TOLERANCE", "Predictor", "aggregated", "clusters"]

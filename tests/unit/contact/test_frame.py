@@ -248,7 +248,7 @@ def test_projected_relative_displacement_is_nodal_for_an_affine_field(name):
     node's support: exact inside for a linear field on a symmetric patch,
     off by O(|G| h) at the boundary nodes (measured 0.004-0.013; asserted
     > 1e-3, so that the two forms differ where the test can see it)."""
-    from bemcontact.contact.interface import RelativeDisplacement
+    from bemcontact.contact.kinematics import RelativeDisplacement
 
     n1, t1, n2, t2 = NON_MATCHING[name]
     f = _frame(*NON_MATCHING[name], rule="mortar")

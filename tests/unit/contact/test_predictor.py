@@ -10,7 +10,7 @@ import pytest
 
 import bemcontact as bc
 from bemcontact.contact import law, predictor
-from bemcontact.contact.predictor import Predictor, clusters
+from bemcontact.contact.predictor import Predictor, aggregated, clusters
 from bemcontact.validation import cases
 from bemcontact.validation.reference import contact as ref
 
@@ -49,7 +49,7 @@ def test_aggregated_system_restricts_the_fine_one(two_blocks):
     the frame's."""
     system = two_blocks
     g = clusters(system.frame.points[system.act], size=4)
-    coarse = system.aggregated(g)
+    coarse = aggregated(system, g)
     assert coarse.m == g.max() + 1 < system.m
     assert math.isclose(coarse.a.sum(), system.a.sum(), rel_tol=1e-14)
     rng = np.random.default_rng(0)
@@ -72,7 +72,7 @@ def test_aggregated_system_restricts_the_fine_one(two_blocks):
 
 def test_aggregated_checks_its_clusters(two_blocks):
     with pytest.raises(bc.ConfigError, match="cluster"):
-        two_blocks.aggregated(np.zeros(3, dtype=int))
+        aggregated(two_blocks, np.zeros(3, dtype=int))
 
 
 APPROACH, H = 0.03, 0.1

@@ -11,7 +11,7 @@ import pytest
 
 import bemcontact as bc
 from bemcontact.contact import law
-from bemcontact.contact.interface import ROUNDOFF, _drop_roundoff
+from bemcontact.contact.kinematics import ROUNDOFF, drop_roundoff
 from bemcontact.contact.verification import CHECKS, EPS, SMALL, verify
 
 E, NU = 1e4, 0.3
@@ -149,10 +149,10 @@ def test_a_huge_rigid_motion_is_caught(solved):
 
 def test_drop_roundoff_zeroes_only_what_is_round_off():
     M = np.array([[1.0, 3e-17, 0.5], [2e-10, 1.0, -4e-17], [0.3, 2.0, 1.0]])
-    out = _drop_roundoff(M.copy())  # per column
+    out = drop_roundoff(M.copy())  # per column
     assert out[1, 0] == 2e-10 and out[0, 1] == 0.0 and out[1, 2] == 0.0
     assert out[0, 0] == 1.0 and out[2, 1] == 2.0
-    rows = _drop_roundoff(np.array([[1.0, 0.5 * ROUNDOFF, 2 * ROUNDOFF]]), axis=1)
+    rows = drop_roundoff(np.array([[1.0, 0.5 * ROUNDOFF, 2 * ROUNDOFF]]), axis=1)
     assert rows.tolist() == [[1.0, 0.0, 2 * ROUNDOFF]]
 
 
