@@ -530,7 +530,7 @@ def test_check_refuses_what_run_would_refuse_for_memory(tmp_path, capsys, monkey
         ", more than this machine's 1 MB of available memory (run refuses it); use a coarser "
         "mesh or smaller contact surfaces\n") and err.count("\n") == 1, err
     # run refuses it before the solve, in one line that names the file too
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (2e9, 1e6))
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory", lambda: (2e9, 1e6))
     out_dir = tmp_path / "out"
     assert main(["run", str(src), "--out", str(out_dir)]) == 2
     out, err = capsys.readouterr()

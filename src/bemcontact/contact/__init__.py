@@ -8,7 +8,8 @@ from .frame import ContactFrame
 from .frames import FrameSet
 from .options import SolverOptions
 from .pair import ContactPair
-from .problem import ContactProblem, LoadStep
+from .history import LoadStep
+from .problem import ContactProblem
 from .results import ContactResult, FrameResult, InterfaceResult, PairResult, StepRecord
 
 __all__ = [

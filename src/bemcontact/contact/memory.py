@@ -36,11 +36,14 @@ tolerance the tests and benchmarks record.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
 
+from ..errors import ConfigError, ResourceLimitWarning
+from ..mesh.element import CORNERS
 from .modes import CHUNK, DENSE_MASS
 
 #: Compressed storage as a fraction of the dense matrix against the nodes
@@ -323,7 +326,41 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear,
     return out
 
 
+def frames_peak(meshes, pairs, links) -> float:
+    """Peak bytes of the frame builds of ``pairs`` (the largest pair's),
+    from the contact surfaces' element counts alone (:func:`frame_bytes`);
+    ``meshes`` the bodies' surface meshes, ``links[p]`` pair p's body
+    indices."""
+    peak = 0.0
+    for p, link in zip(pairs, links):
+        counts, k, corners = [], 0, 0
+        for a, s in zip(link, (p.surface1, p.surface2)):
+            m = meshes[a]
+            counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
+            k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
+        peak = max(peak, frame_bytes(counts, k, corners))
+    return peak
+
+
+def guard(est: MemoryEstimate, fix: str, warn: bool = False) -> None:
+    """Refuse (ConfigError, one line naming ``fix``) what ``est`` says
+    exceeds the available memory by more than the estimate's uncertainty;
+    with ``warn``, a ResourceLimitWarning when it comes within 90 %."""
+    available = machine_memory()[1]
+    if est.peak > allowed(available):
+        raise ConfigError(
+            f"the solve needs about {est.text()}, more than {available_text(available)}; "
+            f"use {fix}"
+        )
+    if warn and est.peak > 0.9 * available:
+        warnings.warn(
+            f"the solve needs about {est.text()}, close to {available_text(available)}",
+            ResourceLimitWarning,
+            stacklevel=4,
+        )
+
+
 __all__ = [
-    "MARGIN", "Limit", "MemoryEstimate", "allowed", "available_text", "binding_limit", "estimate",
+    "MARGIN", "frames_peak", "guard", "Limit", "MemoryEstimate", "allowed", "available_text", "binding_limit", "estimate",
     "frame_bytes", "least_body_bytes", "machine_memory", "process_limits", "resident_bytes",
 ]

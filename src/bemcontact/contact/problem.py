@@ -1,108 +1,30 @@
-"""Two elastic bodies in contact: the problem, its loading history and the
-solve (condensation, then the generalized Newton method per load increment)."""
+"""Bodies in contact: the problem (its assembly of bodies and pairs, its
+frames, the memory checks before it allocates, the shift to an origin of its
+own) and its solve: the bodies condensed to their flexibilities, then the
+loading history increment by increment (:mod:`.loading`)."""
 
 from __future__ import annotations
 
-import difflib
-import time
-import warnings
-from collections.abc import Mapping
 import dataclasses
-from dataclasses import dataclass, field
-from typing import Any
-
-import numpy as np
+import time
 
 from .._native import core
-from ..errors import ConfigError, ConvergenceError, ResourceLimitWarning
+from ..errors import ConfigError, ConvergenceError
 from ..linalg.threads import blas_threads, usable_threads
-from ..mesh.element import CORNERS
-from ..settings import Key, check_settings, setting
-from ..progress import Reporter, Stopwatch, print_lines, ProgressEvent
+from ..progress import Reporter, Stopwatch, print_lines
+from .assembly import checked_assembly, contact_surfaces
 from .flexibility import Body
 from .frame import ContactFrame
 from .frames import FrameSet
-from .increment import closed_text, solve_increment
+from .history import LoadStep, checked_states
 from .interface import InterfaceSystem
-from .memory import (
-    MemoryEstimate, allowed, available_text, estimate, frame_bytes, machine_memory,
-    resident_bytes,
-)
-from .newton import NewtonSteps
+from .loading import solve_history
+from .memory import MemoryEstimate, estimate, frames_peak, guard, resident_bytes
 from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
 from .pair import ContactPair
-from .predictor import Predictor
-from .recovery import Recovery
-from .verification import verified
-from .results import ContactResult, StepRecord
+from .results import ContactResult
 from .reuse import Condensation, CondenseBody, condense_problem
-
-
-# --------------------------------------------------------------------------- load steps
-
-
-@dataclass(frozen=True)
-class LoadStep:
-    """One state of a loading history.
-
-    Attributes
-    ----------
-    conditions:
-        Body name -> region -> boundary condition(s) that *change* at this
-        step; every other region keeps its condition of the previous state
-        (the first step starts from the bodies' own conditions).  A step may
-        change values only, not the kind of condition of a component
-        (displacement, traction or force): to apply a tangential force later,
-        give that component ``Force`` with value 0 from the start.
-    increments:
-        The step is reached in this many equal increments, each a linear
-        interpolation between the previous state and this one (friction is
-        path dependent: use several for a path that matters).
-    label:
-        Name used in messages and results.
-
-    The history starts unloaded; slip is measured from the start of each
-    increment, so a stuck point is one with no new slip in it.
-    """
-
-    conditions: Any = field(default_factory=dict)
-    increments: int = setting(Key(
-        "increments", "integer", "the step is reached in this many linear increments from "
-        "the previous state", default=1, lo=1))
-    label: str = setting(Key(
-        "label", "string", "the step's name in messages and summary.json", default=""))
-
-    def __post_init__(self) -> None:
-        check_settings(self)
-        if not isinstance(self.conditions, Mapping) or not all(
-            isinstance(k, str) and isinstance(c, Mapping) for k, c in self.conditions.items()
-        ):
-            raise ConfigError(
-                "LoadStep.conditions must map body names to {region: condition(s)}, got "
-                f"{self.conditions!r}"
-            )
-
-
-_KIND_NAMES = ("traction", "displacement", "force")
-
-
-def _sequence(name: str, value) -> list:
-    if value is None or isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
-        raise ConfigError(f"{name} must be a list, got {value!r}")
-    return list(value)
-
-
-def _kinds(body, conditions) -> np.ndarray:
-    """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
-    known_u, _ = body.boundary_data(conditions)
-    k = known_u.astype(np.int8)
-    for c in body.controls(conditions):
-        k[c.dofs] = 2
-    return k
-
-
-# --------------------------------------------------------------------------- problem
 
 
 class ContactProblem:
@@ -136,38 +58,8 @@ class ContactProblem:
 
     def __init__(self, body1: Body | None = None, body2: Body | None = None,
                  pair: ContactPair | None = None, *, bodies=None, pairs=None) -> None:
-        if bodies is not None or pairs is not None:
-            if body1 is not None or body2 is not None or pair is not None:
-                raise ConfigError(
-                    "give either body1, body2 and pair, or bodies= and pairs=, not both")
-            bodies, pairs = _sequence("bodies", bodies), _sequence("pairs", pairs)
-            named = True
-        else:
-            for i, b in enumerate((body1, body2)):
-                if not isinstance(b, Body):
-                    raise ConfigError(f"body{i + 1} must be an ElasticBody (or a Body), got "
-                                      f"{type(b).__name__}")
-            bodies, pairs, named = [body1, body2], [pair], False
-        for i, b in enumerate(bodies):
-            if not isinstance(b, Body):
-                raise ConfigError(f"bodies[{i}] must be an ElasticBody (or a Body), got "
-                                  f"{type(b).__name__}")
-        for i, p in enumerate(pairs):
-            if not isinstance(p, ContactPair):
-                what = "pair" if not named else f"pairs[{i}]"
-                raise ConfigError(f"{what} must be a ContactPair, got {type(p).__name__}")
-        names = [b.name for b in bodies]
-        if len(bodies) < 2:
-            raise ConfigError(f"an assembly needs at least two bodies, got {len(bodies)}")
-        if not pairs:
-            raise ConfigError("an assembly needs at least one contact pair (pairs=[])")
-        for i, n in enumerate(names):
-            if n in names[:i]:
-                raise ConfigError(f"two bodies have the same name {n!r}; name them apart")
-        self.bodies = tuple(bodies)
-        self.pairs = tuple(pairs)
-        self.links = tuple(self._link(i, p, names, named) for i, p in enumerate(pairs))
-        self._check_surfaces()
+        self.bodies, self.pairs, self.links = checked_assembly(body1, body2, pair, bodies,
+                                                               pairs)
         #: the first (in a two-body problem the only) contact pair
         self.pair = self.pairs[0]
         #: the point the bodies are solved relative to (None: the global origin)
@@ -176,68 +68,9 @@ class ContactProblem:
                         else translated_bodies(self.bodies, self.origin))
         self._frames: FrameSet | None = None
 
-    @staticmethod
-    def _link(i: int, p: ContactPair, names: list[str], named: bool) -> tuple[int, int]:
-        """The body indices of pair ``i`` (checked)."""
-        if p.bodies is None:
-            if named:
-                raise ConfigError(
-                    f"pairs[{i}] ({p.label}): name its two bodies (ContactPair.bodies); "
-                    f"the bodies are {names}")
-            return (0, 1)
-        for b in p.bodies:
-            if b not in names:
-                close = difflib.get_close_matches(b, names, n=1)
-                hint = f" (did you mean {close[0]!r}?)" if close else ""
-                raise ConfigError(
-                    f"{'pairs[%d]' % i if named else 'pair'} ({p.label}): unknown body {b!r}"
-                    f"{hint}; the bodies are {names}")
-        link = (names.index(p.bodies[0]), names.index(p.bodies[1]))
-        if not named and link != (0, 1):
-            raise ConfigError(
-                f"pair.bodies is {list(p.bodies)}; it must name body 1 and body 2, "
-                f"{names[:2]}, in this order")
-        return link
-
-    def _check_surfaces(self) -> None:
-        """Every contact surface a region of its body without a boundary
-        condition; no pair twice; every body in a pair."""
-        seen: dict[frozenset, int] = {}
-        for i, (p, link) in enumerate(zip(self.pairs, self.links)):
-            where = f"pairs[{i}] ({p.label})" if len(self.pairs) > 1 else "pair"
-            for b, s in zip((self.bodies[a] for a in link), (p.surface1, p.surface2)):
-                if s not in b.region_names:
-                    raise ConfigError(
-                        f"{where}: {b.name}: unknown contact surface {s!r}; the mesh has regions "
-                        f"{list(b.region_names)}"
-                    )
-                if s in b.boundary_conditions:
-                    raise ConfigError(
-                        f"{b.name}: the contact surface {s!r} also has a boundary condition; "
-                        "remove it"
-                    )
-            key = frozenset({(link[0], p.surface1), (link[1], p.surface2)})
-            if key in seen:
-                raise ConfigError(
-                    f"{where}: the same surfaces as pairs[{seen[key]}] "
-                    f"({self.pairs[seen[key]].label}); give each pair once")
-            seen[key] = i
-        used = {a for link in self.links for a in link}
-        for a, b in enumerate(self.bodies):
-            if a not in used:
-                raise ConfigError(
-                    f"body {b.name!r} is in no contact pair; add its pair, or solve it on its "
-                    "own (ElasticBody.solve)")
-
     def surfaces(self, a: int) -> list[str]:
         """The contact surfaces of body ``a`` (in the order of its pairs)."""
-        out = []
-        for p, link in zip(self.pairs, self.links):
-            for side, b in enumerate(link):
-                s = (p.surface1, p.surface2)[side]
-                if b == a and s not in out:
-                    out.append(s)
-        return out
+        return contact_surfaces(self.pairs, self.links, a)
 
     @property
     def frames(self) -> FrameSet:
@@ -280,16 +113,8 @@ class ContactProblem:
     def frame_memory(self) -> float:
         """Peak bytes of the frame builds (the largest pair's), from the
         contact surfaces' element counts alone
-        (:func:`~bemcontact.contact.memory.frame_bytes`)."""
-        peak = 0.0
-        for p, link in zip(self.pairs, self.links):
-            counts, k, corners = [], 0, 0
-            for a, s in zip(link, (p.surface1, p.surface2)):
-                m = self.bodies[a].trace.mesh
-                counts.append(int(np.count_nonzero(m.element_region == m.region_names.index(s))))
-                k, corners = max(k, m.elements.shape[1]), max(corners, CORNERS[m.element_type])
-            peak = max(peak, frame_bytes(counts, k, corners))
-        return peak
+        (:func:`~bemcontact.contact.memory.frames_peak`)."""
+        return frames_peak([b.trace.mesh for b in self.bodies], self.pairs, self.links)
 
     def memory_estimate(self, options: SolverOptions | None = None, steps=None) -> MemoryEstimate:
         """Peak memory of :meth:`solve` with these ``options`` and ``steps``
@@ -319,35 +144,20 @@ class ContactProblem:
     def _check_memory(self, opt, steps) -> None:
         """Refuse a solve whose estimated peak exceeds the machine's available
         memory by more than the estimate's uncertainty (it would be killed
-        out of memory after minutes); warn when it comes close.  The frame
-        build is checked first, before it allocates."""
+        out of memory after minutes); warn when it comes close
+        (:func:`~bemcontact.contact.memory.guard`).  The frame build is
+        checked first, before it allocates."""
         self.check_frame_memory()
-        total, available = machine_memory()
-        est = self.memory_estimate(opt, steps)
-        self._refuse(est, available, "compressed operators ([solver.linear] method = "
-                     "\"hmatrix\") or smaller contact surfaces")
-        if est.peak > 0.9 * available:
-            warnings.warn(
-                f"the solve needs about {est.text()}, close to {available_text(available)}",
-                ResourceLimitWarning,
-                stacklevel=3,
-            )
+        guard(self.memory_estimate(opt, steps), "compressed operators ([solver.linear] "
+              "method = \"hmatrix\") or smaller contact surfaces", warn=True)
 
     def check_frame_memory(self) -> None:
         """Refuse (ConfigError, one line) to build a frame whose estimated
         peak (:meth:`frame_memory`) exceeds the available memory by more
         than the estimate's uncertainty; nothing once the frame is built."""
         if self._frames is None:
-            self._refuse(MemoryEstimate({"frame": self.frame_memory()}, resident_bytes()),
-                         machine_memory()[1], "coarser or smaller contact surfaces")
-
-    @staticmethod
-    def _refuse(est: MemoryEstimate, available: float, fix: str) -> None:
-        if est.peak > allowed(available):
-            raise ConfigError(
-                f"the solve needs about {est.text()}, more than {available_text(available)}; "
-                f"use {fix}"
-            )
+            guard(MemoryEstimate({"frame": self.frame_memory()}, resident_bytes()),
+                  "coarser or smaller contact surfaces")
 
     def contact_modulus(self, pair: int = 0) -> float:
         """E* = 1 / ((1 - nu1^2)/E1 + (1 - nu2^2)/E2) of the bodies of
@@ -356,51 +166,9 @@ class ContactProblem:
 
     def states(self, steps) -> list[list[dict]]:
         """The boundary-condition state reached at each step, per body
-        (checked: known bodies and regions, no condition on a contact
-        surface, the same kind of condition per component throughout)."""
-        names = [b.name for b in self.bodies]
-        surfaces = [self.surfaces(a) for a in range(len(self.bodies))]
-        current = [dict(b.boundary_conditions) for b in self.bodies]
-        base = [_kinds(b, c) for b, c in zip(self.bodies, current)]
-        out = []
-        for i, step in enumerate(steps):
-            try:
-                if not isinstance(step, LoadStep):
-                    raise ConfigError(
-                        f"steps[{i}] must be a LoadStep, got {type(step).__name__}")
-                where = f"step {i + 1}{f' ({step.label})' if step.label else ''}: "
-                current = [dict(c) for c in current]
-                for name, changes in step.conditions.items():
-                    if name not in names:
-                        raise ConfigError(f"{where}unknown body {name!r}; the bodies are {names}")
-                    a = names.index(name)
-                    body = self.bodies[a]
-                    checked = body.checked_conditions(changes, where=where)
-                    for s_ in surfaces[a]:
-                        if s_ in checked:
-                            raise ConfigError(
-                                f"{where}{name}: region {s_!r} is "
-                                f"{'the' if len(surfaces[a]) == 1 else 'a'} contact surface; it "
-                                "cannot carry a boundary condition"
-                            )
-                    current[a].update(checked)
-                    kinds = _kinds(body, current[a])
-                    diff = np.flatnonzero(kinds != base[a])
-                    if diff.size:
-                        dof = int(diff[0])
-                        region = body.region_names[int(body.trace.region[dof // 3])]
-                        raise ConfigError(
-                            f"{where}{name}: region {region!r} component {'xyz'[dof % 3]} "
-                            f"changes from {_KIND_NAMES[base[a][dof]]} to "
-                            f"{_KIND_NAMES[kinds[dof]]}; a step may change values, not kinds "
-                            "(give the component its later kind from the start, e.g. Force "
-                            "with value 0)"
-                        )
-            except ConfigError as exc:  # where, as data: the step
-                exc.location.setdefault("step", i)
-                raise
-            out.append(current)
-        return out
+        (:func:`~bemcontact.contact.history.checked_states`)."""
+        return checked_states(self.bodies, [self.surfaces(a) for a in range(len(self.bodies))],
+                              steps)
 
     def solve(
         self,
@@ -515,83 +283,23 @@ class ContactProblem:
             fs, cb, [p.friction_coefficient for p in self.pairs],
             [(opt.penalty if p.penalty is None else p.penalty) * self.contact_modulus(i)
              for i, p in enumerate(self.pairs)])
-        recover = Recovery(system)
         t3 = time.perf_counter()
-        steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
-        predictor = (Predictor(system, fs.points) if opt.predictor == "coarse" else None)
-        records: list[StepRecord] = []
-        history: list[ContactResult] = []
-        z = system.zero()
-        failed: str | None = None
-        S = len(steps)
-        ell = np.zeros(S)
-        total = sum(st.increments for st in steps)
-        done = 0
-        for s_, step in enumerate(steps):
-            prev = ell.copy()
-            target = np.zeros(S)
-            target[s_] = 1.0
-            name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
-            for i in range(1, step.increments + 1):
-                tau = i / step.increments
-                # the state this increment starts from: the law's history
-                system.start_increment(z, ell)
-                ell_prev, ell = ell, (1 - tau) * prev + tau * target
-                done += 1
-                if report is not None:
-                    report(ProgressEvent("increment", "newton",
-                                         f"{name} increment {i}/{step.increments}"
-                                         + closed_text(system, self.pairs, z, ell_prev),
-                                         index=done, total=total))
-                z, rec, msg = solve_increment(system, predictor, z, ell_prev, ell, opt, report,
-                                              done, total, steps_solver)
-                rec.load_factor = tau
-                rec.step = s_ + 1
-                rec.label = step.label
-                records.append(rec)
-                if msg is not None:
-                    failed = f"{name}, increment {i}/{step.increments}: {msg}"
-                    break
-            if failed is not None:
-                break
-            if S > 1:
-                res = recover(z, ell, list(records))
-                res.label = step.label
-                history.append(res)
-                if verified(res):  # every step's end against the contact conditions
-                    failed = f"{name}: {res.verification.message()}"
-                    break
-        t4 = time.perf_counter()
-        system.release()
-        if report is not None and failed is None:
-            its = sum(r.iterations for r in records)
-            report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
-                                 "iteration(s)" + closed_text(system, self.pairs, z, ell),
-                                 index=total, total=total, seconds=t4 - t3))
-        # states are those of the last increment, judged against its starting slip
-        result = recover(z, ell, records)
-        result.label = steps[s_ if failed else -1].label
-        result.history = history if S > 1 else [result]
-        if verified(result, history if S > 1 else None) and failed is None:
-            failed = f"{name}: {result.verification.message()}"
-        result.converged = result.converged and failed is None
+        result, failed, newton_seconds = solve_history(system, self.pairs, steps, opt, report)
         result.linear = {b.name: dict(c.solver) for b, c in zip(self.bodies, cb)}
         result.threads = opt.threads if opt.threads is not None else core().max_threads()
         result.timings = {
             "frame": t1 - t0,
             "assembly": sum(c.timings["assembly"] for c in cb),
             "condensation": sum(c.timings["condensation"] for c in cb) + (t3 - t2),
-            "newton": t4 - t3,
+            "newton": newton_seconds,
             "total": time.perf_counter() - t0,
         }
         if failed is not None and raise_on_failure:
-            hist = ", ".join(f"{r:.3e}" for r in records[-1].residual_history)
+            hist = ", ".join(f"{r:.3e}" for r in result.steps[-1].residual_history)
             raise ConvergenceError(
                 f"contact solve did not converge at {failed}; scaled residual history: [{hist}]",
                 result,
             )
         return result
-
-
 
 __all__ = ["ContactProblem", "LoadStep"]

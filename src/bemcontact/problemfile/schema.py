@@ -28,7 +28,7 @@ from __future__ import annotations
 from ..bem.material import LinearElastic
 from ..contact.options import CONDENSATION_LINEAR, SolverOptions
 from ..contact.pair import FRAME_RULES, ContactPair
-from ..contact.problem import LoadStep
+from ..contact.history import LoadStep
 from ..linalg.options import HMatrixOptions, LinearSolverOptions
 from ..mesh.element import ELEMENT_TYPES
 from ..output.write import OutputOptions

@@ -66,16 +66,16 @@ def test_a_solve_that_cannot_fit_is_refused_before_it_starts(monkeypatch):
     naming the estimate and the fix; just below the estimate: a warning."""
     prob = _problem()
     peak = prob.memory_estimate().peak
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (peak / 2, peak / 2))
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory", lambda: (peak / 2, peak / 2))
     with pytest.raises(bc.ConfigError, match=r"the solve needs about .* GB .*, more than this "
                        r"machine's .* [MG]B of available memory; use compressed operators") as exc:
         prob.solve()
     assert "\n" not in str(exc.value)
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (2 * peak, peak))
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory", lambda: (2 * peak, peak))
     with pytest.warns(bc.ResourceLimitWarning, match="close to this machine's"):
         res = prob.solve()
     assert res.converged
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (8 * peak, 4 * peak))
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory", lambda: (8 * peak, 4 * peak))
     with warnings.catch_warnings():
         warnings.simplefilter("error", bc.ResourceLimitWarning)
         prob.solve()
@@ -134,7 +134,7 @@ def test_the_frame_estimate_bounds_the_measured_build(n1, n2, element_type):
 def test_a_frame_that_cannot_fit_is_refused_before_it_is_built(monkeypatch):
     prob = _problem()
     frame = prob.frame_memory()
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory",
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory",
                         lambda: (frame / 4, frame / 4))
     monkeypatch.setattr("bemcontact.contact.problem.resident_bytes", lambda: 0.0)
     with pytest.raises(bc.ConfigError, match=r"the solve needs about 0\.00 GB \(at the frame\), "
@@ -151,7 +151,7 @@ def test_loading_a_problem_file_refuses_a_frame_that_cannot_fit(tmp_path, monkey
 
     path = problem(tmp_path)
     need = bc.load_problem(path, check_overlap=False).contact_problem().frame_memory()
-    monkeypatch.setattr("bemcontact.contact.problem.machine_memory", lambda: (need, need / 4))
+    monkeypatch.setattr("bemcontact.contact.memory.machine_memory", lambda: (need, need / 4))
     with pytest.raises(bc.ConfigError, match=r"the solve needs about \d\.\d\d GB \(at the "
                        r"frame\), more than this machine's [\d.]+ [MG]B of available memory; use "
                        r"coarser or smaller contact surfaces$") as exc:

@@ -1,0 +1,94 @@
+"""A loading history solved increment by increment: each increment from the
+law's history at its start (:meth:`~bemcontact.contact.interface.
+InterfaceSystem.start_increment`), by Newton from the coarse predictor's
+starting point (:mod:`~bemcontact.contact.increment`); each step's end
+recovered and verified against the contact conditions
+(:mod:`~bemcontact.contact.verification`)."""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..progress import ProgressEvent
+from .increment import closed_text, solve_increment
+from .newton import NewtonSteps
+from .predictor import Predictor
+from .recovery import Recovery
+from .results import ContactResult, StepRecord
+from .verification import verified
+
+
+def solve_history(system, pairs, steps, opt, report):
+    """Solve the interface ``system`` (of the contact ``pairs``) along the
+    load ``steps`` with the options ``opt``; ``report`` receives the
+    progress events.  Returns (the :class:`ContactResult` at the end, with
+    the result of every step's end in its ``history`` when there are
+    several, the failure message or None, the seconds of the Newton
+    phase)."""
+    recover = Recovery(system)
+    t3 = time.perf_counter()
+    steps_solver = NewtonSteps(reuse=opt.newton_steps == "mixed")
+    predictor = (Predictor(system, system.frames.points) if opt.predictor == "coarse"
+                 else None)
+    records: list[StepRecord] = []
+    history: list[ContactResult] = []
+    z = system.zero()
+    failed: str | None = None
+    S = len(steps)
+    ell = np.zeros(S)
+    total = sum(st.increments for st in steps)
+    done = 0
+    for s_, step in enumerate(steps):
+        prev = ell.copy()
+        target = np.zeros(S)
+        target[s_] = 1.0
+        name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
+        for i in range(1, step.increments + 1):
+            tau = i / step.increments
+            # the state this increment starts from: the law's history
+            system.start_increment(z, ell)
+            ell_prev, ell = ell, (1 - tau) * prev + tau * target
+            done += 1
+            if report is not None:
+                report(ProgressEvent("increment", "newton",
+                                     f"{name} increment {i}/{step.increments}"
+                                     + closed_text(system, pairs, z, ell_prev),
+                                     index=done, total=total))
+            z, rec, msg = solve_increment(system, predictor, z, ell_prev, ell, opt, report,
+                                          done, total, steps_solver)
+            rec.load_factor = tau
+            rec.step = s_ + 1
+            rec.label = step.label
+            records.append(rec)
+            if msg is not None:
+                failed = f"{name}, increment {i}/{step.increments}: {msg}"
+                break
+        if failed is not None:
+            break
+        if S > 1:
+            res = recover(z, ell, list(records))
+            res.label = step.label
+            history.append(res)
+            if verified(res):  # every step's end against the contact conditions
+                failed = f"{name}: {res.verification.message()}"
+                break
+    t4 = time.perf_counter()
+    system.release()
+    if report is not None and failed is None:
+        its = sum(r.iterations for r in records)
+        report(ProgressEvent("end", "newton", f"{total} load increment(s), {its} Newton "
+                             "iteration(s)" + closed_text(system, pairs, z, ell),
+                             index=total, total=total, seconds=t4 - t3))
+    # states are those of the last increment, judged against its starting slip
+    result = recover(z, ell, records)
+    result.label = steps[s_ if failed else -1].label
+    result.history = history if S > 1 else [result]
+    if verified(result, history if S > 1 else None) and failed is None:
+        failed = f"{name}: {result.verification.message()}"
+    result.converged = result.converged and failed is None
+    return result, failed, t4 - t3
+
+
+__all__ = ["solve_history"]
