@@ -277,6 +277,25 @@ class ElasticBody:
             self.discretization, m.shear_modulus, m.poisson_ratio, self.quadrature, threads
         )
 
+    def mixed_system(self, known_u: np.ndarray, W: np.ndarray,
+                     linear: LinearSolverOptions, threads: int | None, border: int,
+                     dofs: np.ndarray | None = None):
+        """The mixed system of this body, the one assembly path of its solves
+        (:meth:`solve`, :func:`~bemcontact.bem.condensation.condense`):
+        ``(A, B W, G[:, dofs], compressed)`` for the prescribed-displacement
+        dofs ``known_u``, the boundary-value columns ``W``; dense (A in
+        place, with room for ``border`` bordering columns) or compressed
+        (:class:`~bemcontact.bem.compressed.CompressedSystem`) as ``linear``
+        chooses for the body's size; G's columns only with ``dofs``."""
+        d, m = self.discretization, self.material
+        if linear.use_hmatrix(d.n_points):
+            A = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, known_u, W,
+                                 self.quadrature, linear.hmatrix, threads)
+            return A, A.BW, None if dofs is None else A.g_columns(dofs), True
+        A, BW, Gc = assemble_system(d, m.shear_modulus, m.poisson_ratio, known_u, W, dofs,
+                                    self.quadrature, threads, border=border)
+        return A, BW, Gc, False
+
     def rigid_modes(self) -> np.ndarray:
         """(3N, 6) rigid-body displacement modes at the functional nodes:
         translations x, y, z, then rotations about x, y, z through the
@@ -315,22 +334,11 @@ class ElasticBody:
         known_u, values = self.boundary_data()
         controls = self.controls()
         free = not known_u.any()
-        m = self.material
         # b = B values; the columns of A for a unit translation of each platen
         # are H E (E on displacement-given dofs, so B E = -H E)
         W = np.column_stack([values, self.control_indicators(controls)])
-        compressed = linear.use_hmatrix(d.n_points)
-        if compressed:
-            A = CompressedSystem(
-                d, m.shear_modulus, m.poisson_ratio, known_u, W, self.quadrature, linear.hmatrix,
-                threads,
-            )
-            BW = A.BW
-        else:  # A in place, with room for the border
-            A, BW, _ = assemble_system(
-                d, m.shear_modulus, m.poisson_ratio, known_u, W, quadrature=self.quadrature,
-                threads=threads, border=6 if free else len(controls),
-            )
+        A, BW, _, compressed = self.mixed_system(known_u, W, linear, threads,
+                                                 border=6 if free else len(controls))
         t1 = time.perf_counter()
         if free:
             # rigid modes as extra unknowns, zero weighted mean motion as rows

@@ -19,8 +19,6 @@ from ..linalg.bordered import solve_bordered
 from ..linalg.options import LinearSolverOptions
 from ..progress import ProgressEvent, Reporter
 from .solution import BodySolution
-from .compressed import CompressedSystem
-from .operators import assemble_system
 
 
 @dataclass
@@ -200,21 +198,11 @@ def condense(
     # A in place (bordered by the free modes); B values = b0 per state, B E =
     # -Hc for the platens, the contact columns of B = G (traction-given dofs)
     S = len(states)
-    m = body.material
     n = 3 * d.n_points
     lin = linear or LinearSolverOptions()
     W = np.column_stack([values, body.control_indicators(controls)])
     C = (Rf * np.repeat(d.weights, 3)[:, None]).T  # equilibrium rows of the free modes
-    compressed = lin.use_hmatrix(d.n_points)
-    if compressed:
-        A = CompressedSystem(d, m.shear_modulus, m.poisson_ratio, known_u, W, body.quadrature,
-                             lin.hmatrix, threads)
-        BW, Gc = A.BW, A.g_columns(dofs)
-    else:  # A in place, with room for the border
-        A, BW, Gc = assemble_system(
-            d, m.shear_modulus, m.poisson_ratio, known_u, W, dofs, body.quadrature, threads,
-            border=nf,
-        )
+    A, BW, Gc, compressed = body.mixed_system(known_u, W, lin, threads, border=nf, dofs=dofs)
     t1 = time.perf_counter()
     if progress is not None:
         progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
