@@ -8,6 +8,7 @@ boundary value problem of one body, solved by the bordered solve of
 from __future__ import annotations
 
 import copy
+import hashlib
 import time
 from collections.abc import Mapping, Sequence
 
@@ -15,7 +16,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..linalg.bordered import solve_bordered
-from .compressed import CompressedSystem
+from .compressed import CompressedSystem, compressed_fraction
 from ..linalg.options import LinearSolverOptions
 from ..linalg.threads import blas_threads
 from ..mesh import SurfaceMesh
@@ -276,6 +277,51 @@ class ElasticBody:
         return assemble_influence(
             self.discretization, m.shear_modulus, m.poisson_ratio, self.quadrature, threads
         )
+
+    def condensation_bytes(self, contact_nodes: int, modes: int, states: int, controls: int,
+                           linear: LinearSolverOptions, chunk: int) -> tuple[float, float]:
+        """(peak, kept) bytes of condensing this body on ``modes`` traction
+        modes of ``contact_nodes`` nodes for ``states`` load states and
+        ``controls`` platen translations, the right-hand sides formed in
+        blocks of ``chunk`` columns: its system (dense, or the measured
+        compressed fraction with the H-LU's factors), G's contact columns,
+        the responses (kept afterwards) and the blocks."""
+        N = self.discretization.n_points
+        N3, n3 = 3 * N, 3 * contact_nodes
+        if linear.use_hmatrix(N):
+            system = 2.0 * compressed_fraction(N) * N3 * N3
+        else:
+            system = float(N3 + 6) ** 2
+        response = float(N3) * (states + modes + controls)
+        blocks = 2.0 * n3 * min(chunk, N3) + float(min(chunk, N3)) * modes
+        return 8.0 * (system + float(N3) * n3 + response + blocks), 8.0 * response
+
+    def condition_kinds(self, conditions=None) -> np.ndarray:
+        """(3N,) int8 per dof of the trace: 0 traction (or free), 1
+        displacement, 2 force (a platen's translation)."""
+        known_u, _ = self.boundary_data(conditions)
+        k = known_u.astype(np.int8)
+        for c in self.controls(conditions):
+            k[c.dofs] = 2
+        return k
+
+    def load_values(self, conditions=None) -> np.ndarray:
+        """(3N,) the prescribed displacement or traction per dof of the trace
+        (0 on force-controlled dofs)."""
+        return self.boundary_data(conditions)[1]
+
+    def model_key(self) -> str:
+        """A hex SHA-256 of what this body's responses depend on besides its
+        conditions: mesh, material, quadrature and discretization options."""
+        h = hashlib.sha256()
+        m = self.mesh
+        for part in (m.nodes, m.elements, m.element_region):
+            a = np.ascontiguousarray(part)
+            h.update(f"{a.dtype.str}{a.shape}".encode())
+            h.update(a.tobytes())
+        h.update(repr((m.element_type, tuple(m.region_names), self.material, self.quadrature,
+                       self.discretization_options)).encode())
+        return h.hexdigest()
 
     def mixed_system(self, known_u: np.ndarray, W: np.ndarray,
                      linear: LinearSolverOptions, threads: int | None, border: int,

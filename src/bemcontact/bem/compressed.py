@@ -62,6 +62,25 @@ def _blas():
 MATVEC_COLUMNS = 256
 
 
+
+#: Compressed storage as a fraction of the dense matrix against the nodes
+#: per body (benchmarks/scaling.py, eps = 1e-8, mixed precision); the H-LU's
+#: factors take about as much again (benchmarks/hlu_factor.py).
+COMPRESSED_FRACTIONS = ((2094, 0.487), (4974, 0.264), (10014, 0.144), (20112, 0.081),
+                        (49614, 0.036))
+
+
+def compressed_fraction(nodes: int) -> float:
+    """The measured compressed fraction of the dense matrix for a body of
+    ``nodes`` nodes (:data:`COMPRESSED_FRACTIONS`, interpolated in log-log;
+    below the smallest size extrapolated with slope -0.7, the largest size's
+    beyond)."""
+    n, f = zip(*COMPRESSED_FRACTIONS)
+    x = np.log(max(nodes, 1))
+    return float(min(1.0, np.exp(np.interp(x, np.log(n), np.log(f),
+                                           left=np.log(f[0]) + (np.log(n[0]) - x) * 0.7,
+                                           right=None))))
+
 class HFactor:
     """H-LU factorization of a :class:`CompressedSystem`'s A (wraps the
     compiled ``HLU``): A ≈ P L U in hierarchical-matrix arithmetic, every

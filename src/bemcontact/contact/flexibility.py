@@ -87,7 +87,8 @@ class Body(Protocol):
     its name, its surface with functional nodes (``trace``: a
     :class:`~bemcontact.bem.discretization.Discretization`, the contact
     frame is built on it), its boundary conditions, its share of the
-    contact modulus, and its :class:`Flexibility` on given contact nodes.
+    contact modulus, its :class:`Flexibility` on given contact nodes, the
+    memory that takes and a key of its model.
     :class:`~bemcontact.bem.body.ElasticBody` is one; any object with these
     members is another (a flexibility given as a matrix, a half-space
     operator, a finite-element body)."""
@@ -111,8 +112,12 @@ class Body(Protocol):
     def checked_conditions(self, conditions, where: str = "") -> dict:
         """``conditions`` (region -> condition(s)) checked for this body."""
 
-    def boundary_data(self, conditions=None) -> tuple[np.ndarray, np.ndarray]:
-        """(known_u (3N,) bool, values (3N,)) on the trace's dofs."""
+    def condition_kinds(self, conditions=None) -> np.ndarray:
+        """(3N,) int8 per dof of the trace: 0 traction (or free), 1
+        displacement, 2 force-controlled."""
+
+    def load_values(self, conditions=None) -> np.ndarray:
+        """(3N,) the prescribed displacement or traction per dof of the trace."""
 
     def controls(self, conditions=None) -> list:
         """The force-controlled components."""
@@ -121,6 +126,14 @@ class Body(Protocol):
                  linear=None, modes=None, *, load_fields=None) -> Flexibility:
         """The body's flexibility on its contact ``nodes`` (trace node
         indices) for the load ``states`` and the frame's traction ``modes``."""
+
+    def condensation_bytes(self, contact_nodes: int, modes: int, states: int, controls: int,
+                           linear, chunk: int) -> tuple[float, float]:
+        """(peak, kept) bytes of :meth:`condense` (the memory guard's estimate)."""
+
+    def model_key(self) -> str:
+        """A key of what the body's responses depend on besides its
+        conditions (a cache of flexibilities keys on it)."""
 
     def translated(self, origin: np.ndarray) -> Body:
         """A copy of the body translated by ``-origin``."""

@@ -59,15 +59,6 @@ class LoadStep:
 _KIND_NAMES = ("traction", "displacement", "force")
 
 
-def _kinds(body, conditions) -> np.ndarray:
-    """(3N,) 0 traction (or free), 1 displacement, 2 force per dof."""
-    known_u, _ = body.boundary_data(conditions)
-    k = known_u.astype(np.int8)
-    for c in body.controls(conditions):
-        k[c.dofs] = 2
-    return k
-
-
 def checked_states(bodies, surfaces, steps) -> list[list[dict]]:
     """The boundary-condition state reached at each of ``steps`` (a
     sequence of :class:`LoadStep`), per body of ``bodies`` (checked: known
@@ -76,7 +67,7 @@ def checked_states(bodies, surfaces, steps) -> list[list[dict]]:
     surfaces of body a.  An error carries its step index in ``location``."""
     names = [b.name for b in bodies]
     current = [dict(b.boundary_conditions) for b in bodies]
-    base = [_kinds(b, c) for b, c in zip(bodies, current)]
+    base = [b.condition_kinds(c) for b, c in zip(bodies, current)]
     out = []
     for i, step in enumerate(steps):
         try:
@@ -99,7 +90,7 @@ def checked_states(bodies, surfaces, steps) -> list[list[dict]]:
                             "cannot carry a boundary condition"
                         )
                 current[a].update(checked)
-                kinds = _kinds(body, current[a])
+                kinds = body.condition_kinds(current[a])
                 diff = np.flatnonzero(kinds != base[a])
                 if diff.size:
                     dof = int(diff[0])

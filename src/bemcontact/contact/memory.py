@@ -44,12 +44,8 @@ import numpy as np
 
 from ..errors import ConfigError, ResourceLimitWarning
 from ..mesh.element import CORNERS
+from ..bem.compressed import compressed_fraction
 from .modes import CHUNK, DENSE_MASS
-
-#: Compressed storage as a fraction of the dense matrix against the nodes
-#: per body (benchmarks/scaling.py, eps = 1e-8, mixed precision); the H-LU's
-#: factors take about as much again (benchmarks/hlu_factor.py).
-_COMPRESSED = ((2094, 0.487), (4974, 0.264), (10014, 0.144), (20112, 0.081), (49614, 0.036))
 
 _DOUBLE = 8.0
 
@@ -70,21 +66,13 @@ FRAME_ENTRY = 48.0
 FRAME_FAN = 2.0
 
 
-def _compressed_fraction(nodes: int) -> float:
-    n, f = zip(*_COMPRESSED)
-    x = np.log(max(nodes, 1))
-    return float(min(1.0, np.exp(np.interp(x, np.log(n), np.log(f),
-                                           left=np.log(f[0]) + (np.log(n[0]) - x) * 0.7,
-                                           right=None))))
-
-
 def least_body_bytes(nodes: float) -> float:
     """Bytes that any solve of a body of ``nodes`` nodes holds at least: its
     compressed system matrix and H-LU factors (the measured compressed
     fraction of the dense matrix at that size, the largest size's beyond).
     Used before meshing, from an element estimate."""
     n3 = 3.0 * float(nodes)
-    return _DOUBLE * 2.0 * _compressed_fraction(int(nodes)) * n3 * n3
+    return _DOUBLE * 2.0 * compressed_fraction(int(nodes)) * n3 * n3
 
 
 def _statm() -> tuple[float, float]:
@@ -299,7 +287,8 @@ class MemoryEstimate:
 
 def estimate(bodies, nodes, m: int, states: int, controls, linear,
              frame: float = 0.0) -> MemoryEstimate:
-    """The estimate for ``bodies`` (each with a ``trace``, its surface),
+    """The estimate for ``bodies`` (each a
+    :class:`~bemcontact.contact.flexibility.Body`: its ``condensation_bytes``),
     ``nodes`` their contact node counts, ``m`` active frame nodes, ``states``
     load states, ``controls`` the force-controlled components per body,
     ``linear`` the condensation's
@@ -310,18 +299,12 @@ def estimate(bodies, nodes, m: int, states: int, controls, linear,
     kept = 0.0
     m3 = 3 * m
     for body, nc, ctl in zip(bodies, nodes, controls):
-        N3 = 3 * body.trace.n_points
-        n3 = 3 * int(nc)
-        if linear.use_hmatrix(body.trace.n_points):
-            system = 2.0 * _compressed_fraction(body.trace.n_points) * N3 * N3
-        else:
-            system = float(N3 + 6) ** 2
-        response = float(N3) * (states + m3 + ctl)
+        # the body's own (its condensation_bytes), and the modes' mass
+        # factor of its contact surface
+        peak, response = body.condensation_bytes(int(nc), m3, states, ctl, linear, CHUNK)
         chol = float(nc) ** 2 if nc <= DENSE_MASS else 0.0
-        blocks = 2.0 * n3 * min(CHUNK, N3) + float(min(CHUNK, N3)) * m3
-        out.phases[f"condensation of {body.name}"] = _DOUBLE * (
-            system + float(N3) * n3 + response + chol + blocks) + kept
-        kept += _DOUBLE * response
+        out.phases[f"condensation of {body.name}"] = peak + _DOUBLE * chol + kept
+        kept += response
     out.phases["newton"] = _DOUBLE * (4.0 + 1.0 / 15.0) * float(m3 + 12) ** 2 + kept
     return out
 

@@ -65,7 +65,7 @@ def load_basis(body, states: Sequence, contact_surface) -> np.ndarray:
         f = np.zeros((N, 3))
         f[idx] = d.normals[idx]
         cols.append(f.ravel())
-    cols += [body.boundary_data(st)[1] for st in states]
+    cols += [body.load_values(st) for st in states]
     raw = np.column_stack(cols) if cols else np.zeros((3 * N, 0))
     if raw.shape[1] == 0:
         return raw
@@ -79,8 +79,7 @@ def load_basis(body, states: Sequence, contact_surface) -> np.ndarray:
 
 
 def _kinds(body, state) -> tuple[np.ndarray, list]:
-    known_u, _ = body.boundary_data(state)
-    return known_u, [c.dofs for c in body.controls(state)]
+    return body.condition_kinds(state) > 0, [c.dofs for c in body.controls(state)]
 
 
 def _same_kinds(a, b) -> bool:
@@ -163,8 +162,7 @@ class Condensation:
                     "traction or force per component) differ from those of the condensed "
                     "body; a re-solve may change values only"
                 )
-            data = [body.boundary_data(st) for st in body_states]
-            values = np.column_stack([v for _, v in data])
+            values = np.column_stack([body.load_values(st) for st in body_states])
             coef, *_ = np.linalg.lstsq(cb.values, values, rcond=None)
             resid = np.linalg.norm(cb.values @ coef - values, axis=0)
             size = np.maximum(np.linalg.norm(values, axis=0), np.finfo(float).tiny)

@@ -7,8 +7,8 @@ An entry is one file ``<key>.condensed``: a header line
 :class:`~bemcontact.bem.condensation.CondensedBody` arrays and its
 metadata.  The key is the SHA-256 of everything the condensation depends on
 (:func:`body_key`): the cache format version and the package version, the
-body's mesh (nodes, elements, element type, regions), material, quadrature
-and node layout, the kinds of its boundary conditions (known displacement
+body's model key (``model_key()``: its mesh, material, quadrature and node
+layout), the kinds of its boundary conditions (known displacement
 per dof, force-controlled dofs), the load fields condensed on, the contact
 nodes and the frame's traction modes (the coupling B; the interface mass M
 is the contact surface's own), the pair's frame settings, and the linear solver options.  The
@@ -54,12 +54,9 @@ def _update(h, *parts) -> None:
 def body_key(body, nodes, states, linear, modes, load_fields, frame_settings=()) -> str:
     """The content hash (hex SHA-256) of a condensation's inputs (module docstring)."""
     h = hashlib.sha256()
-    m = body.mesh
-    known_u, _ = body.boundary_data(states[0])
+    known_u = body.condition_kinds(states[0]) > 0
     controls = [c.dofs for c in body.controls(states[0])]
-    _update(h, FORMAT_VERSION, __version__, m.nodes, m.elements, m.element_type, m.element_region,
-            tuple(m.region_names), body.material, body.quadrature,
-            body.discretization_options, known_u, len(controls), *controls,
+    _update(h, FORMAT_VERSION, __version__, body.model_key(), known_u, len(controls), *controls,
             np.asarray(load_fields), np.asarray(nodes), linear, tuple(frame_settings))
     if modes is not None:
         B = modes.B.tocsr()

@@ -117,9 +117,18 @@ class HalfSpaceBody:
             raise bc.ConfigError(f"{where}{self.name}: a half-space patch takes no conditions")
         return {}
 
-    def boundary_data(self, conditions=None):
-        n3 = 3 * self.trace.n_points
-        return np.zeros(n3, dtype=bool), np.zeros(n3)
+    def condition_kinds(self, conditions=None):
+        return np.zeros(3 * self.trace.n_points, dtype=np.int8)
+
+    def load_values(self, conditions=None):
+        return np.zeros(3 * self.trace.n_points)
+
+    def condensation_bytes(self, contact_nodes, modes, states, controls, linear, chunk):
+        n3 = 3 * contact_nodes
+        return 8.0 * (2 * n3 * modes), 8.0 * n3 * (modes + states)  # F and B, dense
+
+    def model_key(self):
+        return f"half-space {self.name} {self.side} {self.grid}"
 
     def controls(self, conditions=None):
         return []

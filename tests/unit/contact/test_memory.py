@@ -9,6 +9,7 @@ import pytest
 
 import bemcontact as bc
 from bemcontact.contact import memory
+from bemcontact.bem.compressed import compressed_fraction
 
 from .test_problem import _problem
 
@@ -55,9 +56,9 @@ def test_more_states_and_compressed_bodies_change_the_estimate():
     h = bc.SolverOptions(linear=bc.LinearSolverOptions(method="hmatrix"))
     assert prob.memory_estimate(h).phases[f"condensation of {b.name}"] != one.phases[
         f"condensation of {b.name}"]
-    assert memory._compressed_fraction(4974) == pytest.approx(0.264, rel=1e-9)
-    assert memory._compressed_fraction(100) == 1.0
-    f = [memory._compressed_fraction(n) for n in (3000, 10000, 30000, 100000)]
+    assert compressed_fraction(4974) == pytest.approx(0.264, rel=1e-9)
+    assert compressed_fraction(100) == 1.0
+    f = [compressed_fraction(n) for n in (3000, 10000, 30000, 100000)]
     assert np.all(np.diff(f) < 0)
 
 
