@@ -323,6 +323,13 @@ class ElasticBody:
                        self.discretization_options)).encode())
         return h.hexdigest()
 
+    def stresses(self, solution: BodySolution, points) -> np.ndarray:
+        """Stresses (n, 6) at interior ``points`` (n, 3) of this body with
+        the boundary ``solution`` (:func:`~bemcontact.bem.interior.interior_stresses`)."""
+        from .interior import interior_stresses
+
+        return interior_stresses(solution, points, self.material)
+
     def mixed_system(self, known_u: np.ndarray, W: np.ndarray,
                      linear: LinearSolverOptions, threads: int | None, border: int,
                      dofs: np.ndarray | None = None):

@@ -136,10 +136,15 @@ class ContactProblem:
         return states if self.origin is None else translated_states(states, self.origin)
 
     def _back(self, result):
-        """``result`` of the bodies as solved, at the bodies' own position."""
-        if self.origin is None or result is None:
+        """``result`` of the bodies as solved, at the bodies' own position,
+        with the bodies themselves (its stresses)."""
+        if result is None:
             return result
-        return translated_result(result, self.origin, [b.trace.mesh for b in self.bodies])
+        if self.origin is not None:
+            result = translated_result(result, self.origin, [b.trace.mesh for b in self.bodies])
+        for r in {id(r): r for r in [result, *result.history]}.values():
+            r.models = dict(zip(result.names, self.bodies))
+        return result
 
     def _check_memory(self, opt, steps) -> None:
         """Refuse a solve whose estimated peak exceeds the machine's available

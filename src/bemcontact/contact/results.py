@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..bem.body import BodySolution
+from ..errors import ConfigError
 from .law import STATE_NAMES
 from .verification import Verification, verify
 
@@ -211,6 +212,22 @@ class ContactResult:
     linear: dict = field(default_factory=dict)
     threads: int | None = None
     verification: Verification | None = None
+    #: body name -> the body (what :meth:`stresses` asks for its stresses)
+    models: dict = field(default_factory=dict)
+
+    def stresses(self, body: str, points) -> np.ndarray:
+        """The stress tensor (n, 6) = (σxx, σyy, σzz, σxy, σyz, σxz), tension
+        positive, at interior ``points`` (n, 3) of the body named ``body``,
+        from its solution in this result (a BEM body: Somigliana's identity,
+        :func:`~bemcontact.bem.interior.interior_stresses`)."""
+        if body not in self.names:
+            raise ConfigError(f"unknown body {body!r}; the bodies are {list(self.names)}",
+                              location={"body": body})
+        model = self.models.get(body)
+        if model is None or not hasattr(model, "stresses"):
+            raise ConfigError(f"body {body!r} gives no stresses (only bodies with a "
+                              "stresses() method do)", location={"body": body})
+        return model.stresses(self.bodies[self.names.index(body)], points)
 
     def verify(self) -> Verification:
         """This state's checks against the contact conditions
