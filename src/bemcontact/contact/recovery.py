@@ -127,7 +127,7 @@ def _pair(rec, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
     nbar /= max(float(np.linalg.norm(nbar)), np.finfo(float).tiny)
     Fn = float(F @ nbar)
     Ft = float(np.linalg.norm(F - Fn * nbar))
-    ifaces = tuple(_interface(rec, p, side, sols, names[side], frame_res.state)
+    ifaces = tuple(_interface(rec, p, side, sols, names[side], frame_res.state, act)
                    for side in range(2))
     return PairResult(
         names=(names[0], names[1]),
@@ -138,10 +138,11 @@ def _pair(rec, p, fr, act, lam3, kk, k_init, k_prev, state_act, a, sols,
     )
 
 
-def _interface(rec, p, side, sols, name, frame_state) -> InterfaceResult:
+def _interface(rec, p, side, sols, name, frame_state, act) -> InterfaceResult:
     """The contact nodes of side ``side`` of pair ``p``: tractions,
-    pointwise gap and slip against the other side's surface, and the state
-    of the frame node most strongly coupled to each node."""
+    pointwise gap and slip against the other side's surface, the state of
+    the frame node most strongly coupled to each node, and whether it is
+    coupled to an active frame node (``act``) at all."""
     fr = rec.system.frames.frames[p]
     sol, other_sol = sols[side], sols[1 - side]
     d = sol.discretization
@@ -165,13 +166,14 @@ def _interface(rec, p, side, sols, name, frame_state) -> InterfaceResult:
     D = abs(fr.D[side]).tocsr()
     strongest = np.asarray(D.argmax(axis=1)).ravel()
     coupled = np.asarray(D.sum(axis=1)).ravel() > 0
+    paired = np.asarray(D[:, act].sum(axis=1)).ravel() > 0
     # nodes off the other body's surface are open whatever their coupling
     state = np.where(coupled & inside, frame_state[strongest], 0).astype(np.int8)
     return InterfaceResult(
         body=name, surface=sol.region_names[int(d.region[nodes[0]])], nodes=nodes,
         points=X, normals=n, displacement=u, traction=t, pressure=-tn,
         tangential_traction=t - tn[:, None] * n, gap=gap, slip=slip, state=state,
-        weights=d.weights[nodes],
+        weights=d.weights[nodes], paired=paired,
     )
 
 

@@ -66,6 +66,9 @@ class InterfaceResult(NodalContactFields):
     nodes: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     displacement: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     traction: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    #: (n,) bool: coupled to an active frame node (paired within the
+    #: search distance); an unpaired node is never held by the contact
+    paired: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
 
 
 @dataclass

@@ -8,7 +8,9 @@ it is that tight):
 
 * ``penetration``: frame gaps g_j >= -eps sigma / r_j (r_j the node's
   augmentation, stress per length: sigma / r_j is the displacement an
-  element-sized patch takes under the traction scale sigma).
+  element-sized patch takes under the traction scale sigma); and no
+  contact node left unpaired by the search distance lies inside the other
+  body (the contact would reach beyond the paired region, unheld).
 * ``tension``: pressures p_j >= -eps sigma.
 * ``complementarity``: |p_j g_j| <= eps sigma^2 / r_j.
 * ``cone``: |q_j| <= mu_j p_j + eps sigma (mu_j the coefficient in effect
@@ -209,6 +211,22 @@ def verify(result) -> Verification:
 
         w["penetration"].offer(-g, np.maximum(EPS * sigma / r, geo), where, location,
                                lambda j, g=g: f"gap {g[j]:.3g}")
+        # a contact node never paired with the frame (its initial gap beyond
+        # the search distance) but over the other surface must stay out of
+        # it: nothing would hold it, and the contact cut there is wrong
+        r_max = float(np.max(r, initial=0.0)) or np.inf
+        for i in pair.interfaces:
+            if not i.paired.size:
+                continue
+            k = np.flatnonzero(~i.paired & np.isfinite(i.gap))
+            w["penetration"].offer(
+                -i.gap[k], max(EPS * sigma / r_max, geo),
+                lambda j, k=k, i=i: (f"body {i.body} node {int(i.nodes[k[j]])} "
+                                     f"{_at(i.points[k[j]])}, beyond the paired region"),
+                lambda j, k=k, i=i: {"body": i.body, "node": int(i.nodes[k[j]]),
+                                     "point": [float(c) for c in i.points[k[j]]], **step},
+                lambda j, k=k, i=i: (f"gap {i.gap[k[j]]:.3g} (raise contact.search_distance "
+                                     "to pair it)"))
         w["tension"].offer(-p, EPS * sigma, where, location,
                            lambda j, p=p: f"pressure {p[j]:.3g}")
         w["complementarity"].offer(np.abs(p * g), np.maximum(EPS * sigma**2 / r, geo * sigma),

@@ -191,3 +191,23 @@ def test_the_seam_asks_nothing_else_of_a_body():
     assert isinstance(body, Body) and not isinstance(body, bc.ElasticBody)
     with pytest.raises(bc.ConfigError, match="body1 must be an ElasticBody .or a Body., got str"):
         bc.ContactProblem("block", body, bc.ContactPair("contact", "contact", 0.0))
+
+
+def test_a_contact_cut_by_the_search_distance_is_refused():
+    """The default search distance (a quarter of the largest contact
+    element: 0.031 mm on this uniform patch) leaves unpaired the nodes whose
+    initial gap r²/2R exceeds it (from r of about 0.8 mm on, element pairs
+    straddling it aside), inside the Hertz radius of 1 mm:
+    the contact stops at the paired region, its pressure spikes there (4.5
+    p0) and the unpaired nodes sink 1.7 um into the other body.  Nothing in
+    the discrete problem is violated; the verification's check of the
+    unpaired nodes refuses it, naming a node and the fix."""
+    lower = HalfSpaceBody("block", -1, 1.5 * A, 24)
+    upper = HalfSpaceBody("sphere", +1, 1.5 * A, 24, lambda x, y: (x * x + y * y) / (2 * R),
+                          far_field=(0.0, 0.0, -DELTA))
+    problem = bc.ContactProblem(lower, upper, bc.ContactPair("contact", "contact", 0.0))
+    with pytest.raises(bc.ConvergenceError, match=r"verification failed: penetration violated at "
+                       r"body (block|sphere) node \d+ .*beyond the paired region: gap -0\.00\d+ "
+                       r"\(raise contact\.search_distance to pair it\)") as info:
+        problem.solve(bc.SolverOptions(progress=False))
+    assert info.value.result.converged is False
