@@ -163,20 +163,11 @@ class ElasticBody:
         return c
 
     def same_model(self, other) -> bool:
-        """Whether ``other`` is the same elastic model (name, mesh, material,
-        quadrature and discretization options): its condensation can be
-        reused for this body."""
-        if not isinstance(other, ElasticBody):
-            return False
-        a, b = self.mesh, other.mesh
-        return (
-            self.name == other.name and self.material == other.material
-            and self.quadrature == other.quadrature
-            and self.discretization_options == other.discretization_options
-            and a.region_names == b.region_names and np.array_equal(a.nodes, b.nodes)
-            and np.array_equal(a.elements, b.elements) and a.element_type == b.element_type
-            and np.array_equal(a.element_region, b.element_region)
-        )
+        """Whether ``other`` is the same elastic model (name and
+        :meth:`model_key`: mesh, material, quadrature and discretization
+        options): its condensation can be reused for this body."""
+        return (isinstance(other, ElasticBody) and self.name == other.name
+                and self.model_key() == other.model_key())
 
     def boundary_data(
         self, conditions: Mapping[str, tuple[BoundaryCondition, ...]] | None = None
