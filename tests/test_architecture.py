@@ -24,6 +24,7 @@ LAYERS = [
     {"study"},
     {"problemfile"},
     {"validation", "output", "bench"},
+    {"multiscale"},
     {"contact"},
     {"bem"},
     {"linalg", "halfspace"},

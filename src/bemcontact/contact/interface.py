@@ -153,32 +153,14 @@ class InterfaceSystem:
         leave out the displacement its tangential traction caused, so the
         increment spreads that force over the contact as an elastic stick
         solution does."""
-        law_ = self.law
         kz = self.k(z, ell)
-        gap = kz[:, 2]
-        tol = 1e-8 * self.size
-        npairs = int(self.pair_of.max(initial=-1)) + 1
-        # the first touch of each pair (every pair holds its bodies)
-        first = np.full(npairs, np.inf)
-        np.minimum.at(first, self.pair_of, gap)
-        first = np.maximum(first, 0.0)
-        law_.mu = np.where(gap > first[self.pair_of] + tol, 0.0, law_.friction)
-        touching = gap <= tol
-        held = np.zeros(npairs, dtype=bool)  # others than the anchors touch
-        np.logical_or.at(held, self.pair_of, touching & ~law_.anchors)
-        done = law_.anchors & touching & held[self.pair_of]
-        law_.anchors = ((law_.mu > 0.0) & ~touching) | (law_.anchors & ~done)
-        if reference is not None:
-            law_.reference = reference
-            return
-        law_.reference = kz[:, :2].copy()
-        if not done.any():
-            return
         lam = self.split(z)[0].reshape(-1, 3)
-        nodes = np.flatnonzero(done)
-        cols = (3 * nodes[:, None] + np.arange(2)).ravel()
-        dk = (self.K[:, cols] @ lam[nodes, :2].ravel()).reshape(-1, 3)
-        law_.reference = law_.reference - dk[:, :2]
+
+        def influence(nodes, t):
+            cols = (3 * nodes[:, None] + np.arange(2)).ravel()
+            return (self.K[:, cols] @ t.ravel()).reshape(-1, 3)
+
+        self.law.start_increment(kz, self.pair_of, self.size, lam, influence, reference)
 
     def _rows(self, lam, parts, ell):
         """Linear equations besides the law: free-mode equilibrium and the

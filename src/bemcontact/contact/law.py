@@ -155,6 +155,39 @@ class CoulombLaw:
         """(J_lam, J_k, state) (:func:`jacobian`)."""
         return jacobian(lam, k, self.reference, self.mu, self.r, self.r)
 
+    def start_increment(self, k: np.ndarray, pair_of: np.ndarray, size, lam: np.ndarray,
+                        influence, reference: np.ndarray | None = None) -> None:
+        """Before an increment from the converged relative displacements
+        ``k`` (m, 3) and tractions ``lam`` (m, 3): the coefficients in effect
+        and the stick reference (the rule and its reasons:
+        :meth:`~bemcontact.contact.interface.InterfaceSystem.start_increment`).
+        ``pair_of`` (m,) the pair of each node, ``size`` its element (cell)
+        size; ``influence(nodes, t)`` the relative displacement (m, 3) of the
+        tangential tractions ``t`` (len(nodes), 2) on ``nodes`` (the anchors
+        released, whose displacement leaves the reference); ``reference``
+        given: it is the stick reference."""
+        gap = k[:, 2]
+        tol = 1e-8 * size
+        npairs = int(pair_of.max(initial=-1)) + 1
+        # the first touch of each pair (every pair holds its bodies)
+        first = np.full(npairs, np.inf)
+        np.minimum.at(first, pair_of, gap)
+        first = np.maximum(first, 0.0)
+        self.mu = np.where(gap > first[pair_of] + tol, 0.0, self.friction)
+        touching = gap <= tol
+        held = np.zeros(npairs, dtype=bool)  # others than the anchors touch
+        np.logical_or.at(held, pair_of, touching & ~self.anchors)
+        done = self.anchors & touching & held[pair_of]
+        self.anchors = ((self.mu > 0.0) & ~touching) | (self.anchors & ~done)
+        if reference is not None:
+            self.reference = reference
+            return
+        self.reference = k[:, :2].copy()
+        if not done.any():
+            return
+        nodes = np.flatnonzero(done)
+        self.reference = self.reference - influence(nodes, lam[nodes, :2])[:, :2]
+
 
 __all__ = ["OPEN", "STICK", "SLIP", "STATE_NAMES", "CoulombLaw", "contact_state", "residual",
            "jacobian"]

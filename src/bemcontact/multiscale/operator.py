@@ -1,0 +1,86 @@
+"""The flexibility of a pair of bodies on the contact grid: the half-space
+(Boussinesq–Cerruti) operator of the pair, applied by FFT, plus each body's
+smooth correction for its finite geometry (low rank, :mod:`.correction`),
+and an approximate inverse of the half-space part (the preconditioner of the
+interface solve).
+
+Fields are (n, 3) arrays over the grid's cells in global (x, y, z)
+components; signs as :mod:`bemcontact.halfspace.influence`: the traction
+acts on body 2 (z > 0 side), the result is u_2 − u_1 (k_z > 0 opens)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import scipy.fft
+
+from ..errors import ConfigError
+from ..halfspace import Compliance, Grid, HalfSpaceOperator
+
+
+class PairOperator:
+    """k = C t: the relative displacement at the cell centres of the grid
+    per traction ``t`` on body 2, C = C_hs + Σ ΔC_a.
+
+    ``corrections``: objects with ``matvec((n, 3)) -> (n, 3)`` giving the
+    correction of the relative displacement (each body's, signs included:
+    :class:`~.correction.LowRankCorrection`).
+
+    :meth:`precondition` applies the inverse of the circulant that the
+    zero-padded half-space kernel defines on the (2nx) × (2ny) torus, per
+    Fourier mode a 3 × 3 Hermitian block: restricted to the closed cells it
+    is the approximate inverse of the closed cells' block of C (the
+    circulant preconditioner of CONTACT's normal solver, here for all three
+    components, Dundurs coupling included)."""
+
+    def __init__(self, grid: Grid, compliance: Compliance,
+                 corrections: Sequence = ()) -> None:
+        self.grid = grid
+        self.compliance = compliance
+        self.halfspace = HalfSpaceOperator(grid, compliance)
+        self.corrections = list(corrections)
+        nx, ny = grid.shape
+        #: (3, 3) the half-space block of a cell on itself
+        self.self_block = self.halfspace.blocks[nx - 1, ny - 1].copy()
+        kxx, kyy, kzz, kxy, kxz, kyz = self.halfspace._kernels
+        sym = np.empty(kxx.shape + (3, 3), dtype=complex)
+        sym[..., 0, 0], sym[..., 1, 1], sym[..., 2, 2] = kxx, kyy, kzz
+        sym[..., 0, 1] = sym[..., 1, 0] = kxy
+        sym[..., 0, 2], sym[..., 1, 2] = kxz, kyz
+        sym[..., 2, 0], sym[..., 2, 1] = -kxz, -kyz
+        # the padded kernel's symbol is Hermitian positive definite on
+        # every mode (the 1/r kernel's); a mode where it is not (truncation
+        # of the kernel at the grid's size) gets its eigenvalues' magnitudes
+        w, v = np.linalg.eigh(0.5 * (sym + np.conj(np.swapaxes(sym, -1, -2))))
+        if not np.all(np.isfinite(w)) or w.max() <= 0.0:
+            raise ConfigError("PairOperator: the half-space symbol is not positive")
+        w = np.maximum(np.abs(w), 1e-12 * w.max())
+        self._inverse = np.einsum("...ij,...j,...kj->...ik", v, 1.0 / w, np.conj(v))
+
+    @property
+    def n(self) -> int:
+        return self.grid.size
+
+    def matvec(self, t: np.ndarray) -> np.ndarray:
+        """(n, 3) -> (n, 3): C t."""
+        u = self.halfspace.matvec(t)
+        for c in self.corrections:
+            u = u + c.matvec(t)
+        return u
+
+    def halfspace_matvec(self, t: np.ndarray) -> np.ndarray:
+        """(n, 3) -> (n, 3): C_hs t alone (the correction switched off)."""
+        return self.halfspace.matvec(t)
+
+    def precondition(self, u: np.ndarray) -> np.ndarray:
+        """(n, 3) -> (n, 3): the circulant approximate inverse of C_hs."""
+        nx, ny = self.grid.shape
+        s = (2 * nx, 2 * ny)
+        f = scipy.fft.rfft2(np.moveaxis(u.reshape(nx, ny, 3), -1, 0), s=s, axes=(1, 2))
+        g = np.einsum("xyij,jxy->ixy", self._inverse, f)
+        out = scipy.fft.irfft2(g, s=s, axes=(1, 2))[:, :nx, :ny]
+        return np.moveaxis(out, 0, -1).reshape(-1, 3)
+
+
+__all__ = ["PairOperator"]
