@@ -106,3 +106,14 @@ def test_interface_compression_counts_stored_entries():
     # the largest off-diagonal blocks of the top three bisections (HODLR ranks)
     assert mod.weak_ranks(np.outer(u, u), pts, 1e-8) == [1, 1, 1]
     assert mod.weak_ranks(rng.standard_normal((600, 600)), pts, 1e-8) == [300, 150, 75]
+
+
+def test_grid_mindlin_benchmark_smoke():
+    spec = importlib.util.spec_from_file_location("b_grid", BENCH / "grid_mindlin_vs_tamaas.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    row = mod.one(8.0)
+    assert row["converged"] and row["cells"] == 400
+    # the measures of tests/unit/multiscale (a/h = 12 there), coarser here
+    assert abs(row["p0_err"]) < 5e-3 and row["q_l2"] < 0.05 and abs(row["dt_err"]) < 5e-3
+    assert row["cpu_s"] > 0 and row["peak_rss_mb"] > 0

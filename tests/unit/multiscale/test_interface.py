@@ -120,3 +120,36 @@ def test_krylov_iterations_stay_nearly_flat_under_refinement():
         assert rec.converged
         per.append(rec.krylov_iterations / rec.iterations)
     assert max(per) <= 8.0 and per[1] < 1.5 * per[0], per
+
+
+def test_hertz_subsurface_stresses_from_the_grid_solution():
+    """The stresses inside body 2 of the solved Hertz contact (a/h = 25; its
+    grid tractions through :class:`~bemcontact.halfspace.HalfSpaceStress`):
+    on the axis from z = 0.05a to 3a, σ_z and σ_r within 2 % of p0 of
+    Johnson's closed forms (measured 0.06 %; the profile is taken under the
+    peak cell, h/√2 off the axis), and the maximum shear τ₁ = 0.310 p0 at z =
+    0.481a within 2 % in value and 0.03a in depth (the bounds asked of the
+    method; measured 0.03 % and 0.0002a)."""
+    from scipy.optimize import minimize_scalar
+
+    from bemcontact.halfspace import HalfSpaceStress, tresca
+
+    gi = sphere(25.0, friction=0.0)
+    assert gi.solve_increment(FRICTIONLESS, [0.0, 0.0, 0.0]).converged
+    a, p0 = HZ.contact_radius, HZ.peak_pressure
+    field = HalfSpaceStress(gi.grid, NU)
+    centre = gi.grid.centres[np.argmax(gi.p[:, 2])]
+    z = np.linspace(0.05, 3.0, 40)
+    points = np.zeros((z.size, 3))
+    points[:, :2] = centre[:2]
+    points[:, 2] = z * a
+    s = field.at(points, gi.p) / p0
+    s_z = -1.0 / (1.0 + z * z)
+    s_r = -(1.0 + NU) * (1.0 - z * np.arctan(1.0 / z)) + 0.5 / (1.0 + z * z)
+    assert np.abs(s[:, 2] - s_z).max() < 0.02
+    assert np.abs(s[:, 0] - s_r).max() < 0.02 and np.abs(s[:, 1] - s_r).max() < 0.02
+    found = minimize_scalar(
+        lambda d: -tresca(field.at(np.array([[centre[0], centre[1], d * a]]), gi.p))[0] / p0,
+        bounds=(0.2, 0.8), method="bounded", options={"xatol": 1e-5})
+    assert -found.fun == pytest.approx(0.310021, rel=0.02)
+    assert abs(found.x - 0.480864) < 0.03
