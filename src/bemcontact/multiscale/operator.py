@@ -83,4 +83,31 @@ class PairOperator:
         return np.moveaxis(out, 0, -1).reshape(-1, 3)
 
 
-__all__ = ["PairOperator"]
+class ToeplitzOperator:
+    """A block-Toeplitz operator on a grid's cells from its blocks,
+    ``blocks[i − j + nx − 1, k − l + ny − 1]`` (3, 3) the response at cell
+    (i, k) to a unit traction on cell (j, l), applied by FFT on the
+    zero-padded grid (9 kernels: no symmetry assumed)."""
+
+    def __init__(self, grid: Grid, blocks: np.ndarray) -> None:
+        nx, ny = grid.shape
+        if blocks.shape != (2 * nx - 1, 2 * ny - 1, 3, 3):
+            raise ConfigError(f"ToeplitzOperator: blocks must have shape "
+                              f"{(2 * nx - 1, 2 * ny - 1, 3, 3)}, got {blocks.shape}")
+        self.grid = grid
+        padded = np.zeros((3, 3, 2 * nx, 2 * ny))
+        padded[:, :, : 2 * nx - 1, : 2 * ny - 1] = np.moveaxis(blocks, (2, 3), (0, 1))
+        padded = np.roll(padded, (-(nx - 1), -(ny - 1)), axis=(2, 3))
+        self._kernels = scipy.fft.rfft2(padded, axes=(2, 3))
+
+    def matvec(self, t: np.ndarray) -> np.ndarray:
+        """(n, 3) -> (n, 3)."""
+        nx, ny = self.grid.shape
+        s = (2 * nx, 2 * ny)
+        f = scipy.fft.rfft2(np.moveaxis(t.reshape(nx, ny, 3), -1, 0), s=s, axes=(1, 2))
+        g = np.einsum("ijxy,jxy->ixy", self._kernels, f)
+        out = scipy.fft.irfft2(g, s=s, axes=(1, 2))[:, :nx, :ny]
+        return np.moveaxis(out, 0, -1).reshape(-1, 3)
+
+
+__all__ = ["PairOperator", "ToeplitzOperator"]
