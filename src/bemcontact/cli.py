@@ -41,6 +41,7 @@ from .errors import BemcontactError, BemcontactWarning, ConvergenceError
 from .output.rundir import InterruptGuard, RunDirectory
 from .output.write import write_summary
 from .problemfile.reader import load_problem
+from .output.report import counts, run_report
 from .progress import terminal_text
 from .settings import MAX_THREADS
 
@@ -443,42 +444,8 @@ def _run(args: argparse.Namespace, guard: InterruptGuard) -> int:
             _error(text)
         return EXIT_INPUT
     if not args.quiet:
-        print(terminal_text(_report(problem, result, args.out, files)))
+        print(terminal_text(run_report(problem, result, args.out, files)))
     return EXIT_OK
-
-
-def _counts(c: dict[str, int]) -> str:
-    return ", ".join(f"{v} {k}" for k, v in c.items())
-
-
-def _report(problem, result, out: pathlib.Path, files) -> str:
-    force = problem.units.get("force", "")
-    unit = f" {force}" if force else ""
-    steps = len(result.history)
-    increments = len(result.steps)
-    # forces below what the Newton tolerance resolves are round-off, not results
-    floor = 10.0 * problem.options.tolerance * max(
-        float(np.linalg.norm(pr.contact_force)) for pr in result.pairs or [result])
-    lines = [
-        f"{problem.path}: converged in {result.newton_iterations} Newton iteration(s), "
-        f"{steps} load step(s) in {increments} increment(s), "
-        f"{result.timings.get('total', 0.0):.2f} s",
-    ]
-    several = len(result.pairs) > 1
-    for pr in result.pairs or [result]:
-        pad = "  " if several else ""
-        if several:
-            lines.append(f"  pair {pr.label}:")
-        lines += [
-            f"  {pad}normal force      {_force(pr.normal_force, floor, unit)}",
-            f"  {pad}tangential force  {_force(pr.tangential_force, floor, unit)}",
-        ]
-        for iface in pr.interfaces:
-            lines.append(f"  {pad}{iface.body} ({iface.surface}, {iface.state.size} nodes): "
-                         f"{_counts(iface.counts())}")
-        lines.append(f"  {pad}frame ({pr.frame.state.size} nodes): {_counts(pr.frame.counts())}")
-    lines.append(f"results in {out}: " + ", ".join(f.name for f in files))
-    return "\n".join(lines)
 
 
 def _condition(c) -> str:
@@ -496,13 +463,6 @@ def _condition(c) -> str:
         return name
 
 
-def _force(value: float, floor: float, unit: str) -> str:
-    """A force for the summary: 0 with the resolution when it is below it."""
-    if abs(value) <= floor:
-        return f"0{unit} (below the solve's resolution, {floor:.1g}{unit})"
-    return f"{value:.6g}{unit}"
-
-
 def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
     _error(str(exc))
     r = exc.result
@@ -511,10 +471,10 @@ def _not_converged(exc: ConvergenceError, out: RunDirectory, echo) -> int:
             which = f" of {pr.label}" if len(r.pairs) > 1 else ""
             for iface in pr.interfaces:
                 print(terminal_text(f"  states at the last iterate, {iface.body}{which}: "
-                                    f"{_counts(iface.counts())}"),
+                                    f"{counts(iface.counts())}"),
                       file=sys.stderr)
             print(terminal_text(f"  states at the last iterate, frame{which}: "
-                                f"{_counts(pr.frame.counts())}"), file=sys.stderr)
+                                f"{counts(pr.frame.counts())}"), file=sys.stderr)
     data = r if r is not None else {"converged": False}
     try:
         path = write_summary(data, out, echo, error=str(exc))

@@ -14,6 +14,9 @@ FRAME_ON = ("auto", "between", "coarser", "body1", "body2")
 FRAME_RULES = ("mortar", "collocation")
 #: Values of :attr:`ContactPair.relative_displacement`.
 RELATIVE_DISPLACEMENTS = ("projected", "weighted")
+#: How a pair is solved: on the frame at full resolution, on a contact grid
+#: with the bodies' coarse corrections, or chosen by applicability.
+METHODS = ("full", "multiscale", "auto")
 
 
 @dataclass(frozen=True)
@@ -102,6 +105,17 @@ class ContactPair:
         "penalty", "number", "this pair's augmentation factor c (overrides "
         "`solver.penalty`)", default=None, lo=1e-2, hi=1e2,
         default_text="`solver.penalty`"))
+    method: str = setting(Key(
+        "method", "string", "how the pair is solved: `full` (both bodies condensed on the "
+        "frame at the contact's resolution), `multiscale` (the contact zone on a regular grid: "
+        "the pair's half-space operator plus each body's correction from its own, coarse, "
+        "mesh; two bodies loaded through rigid supports and platen forces) or `auto` "
+        "(`multiscale` where it applies and its error estimate is small, else `full`; the "
+        "choice is said in one line)", default="full", choices=METHODS))
+    grid_size: float | None = setting(Key(
+        "grid_size", "number", "the cell size (a length) of the multiscale contact grid",
+        default=None, lo=0, lo_open=True,
+        default_text="the largest contact's smaller half-width / 25"))
     bodies: tuple[str, str] | None = None
 
     def __post_init__(self) -> None:
@@ -129,4 +143,4 @@ class ContactPair:
         return f"{self.bodies[0]}:{self.surface1}/{self.bodies[1]}:{self.surface2}"
 
 
-__all__ = ["ContactPair", "FRAME_ON", "FRAME_RULES", "RELATIVE_DISPLACEMENTS"]
+__all__ = ["ContactPair", "FRAME_ON", "FRAME_RULES", "METHODS", "RELATIVE_DISPLACEMENTS"]

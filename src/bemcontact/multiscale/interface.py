@@ -43,7 +43,7 @@ import numpy as np
 import scipy.sparse.linalg
 import threadpoolctl
 
-from ..contact.law import OPEN, CoulombLaw
+from ..contact.law import CoulombLaw
 from ..contact.newton import Watchdog
 from ..contact.options import SolverOptions
 from .operator import PairOperator

@@ -30,7 +30,7 @@ _MESHIO_CELL = {"tri3": "triangle", "tri6": "triangle6", "quad4": "quad", "quad8
                 "quad9": "quad9"}  # fmt: skip
 
 
-def _write_vtu(path: pathlib.Path, points, cells, point_data, cell_data=None,
+def write_vtu(path: pathlib.Path, points, cells, point_data, cell_data=None,
                field_data=None) -> None:
     import meshio
 
@@ -116,7 +116,7 @@ def _geometric_vtu(path: pathlib.Path, disc, elements, fields) -> None:
             v = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
         point_data[name] = v
     cell_data = {"region": [mesh.element_region[elements].astype(np.int32)]}
-    _write_vtu(path, mesh.nodes[nodes], [(_MESHIO_CELL[mesh.element_type], conn)], point_data,
+    write_vtu(path, mesh.nodes[nodes], [(_MESHIO_CELL[mesh.element_type], conn)], point_data,
                cell_data, region_field_data(mesh))
 
 
@@ -145,7 +145,7 @@ def _write_interface_vtu(path: pathlib.Path, sol, iface) -> None:
     full = np.full(d.n_points, -1, dtype=np.int64)
     full[iface.nodes] = np.arange(iface.nodes.size)
     if elements.size == 0 or (full[d.fconn[elements, :d.mesh.elements.shape[1]]] < 0).any():
-        _write_vtu(path, iface.points, _vertices(iface.nodes.size), _interface_fields(iface))
+        write_vtu(path, iface.points, _vertices(iface.nodes.size), _interface_fields(iface))
         return
 
     def spread(values):  # interface values onto all functional nodes (others unused)
@@ -198,7 +198,7 @@ def frame_cells(result: ContactResult, pair=None):
 
 def _write_frame_vtu(path: pathlib.Path, fr, cells) -> None:
     cells = cells or _vertices(fr.points.shape[0])
-    _write_vtu(
+    write_vtu(
         path, fr.points, cells,
         {
             "pressure": fr.pressure, "tangential_traction": fr.tangential_traction,

@@ -427,7 +427,7 @@ def _fmt(v: Any) -> str:
     return format(float(v), ".17g")
 
 
-def _write_csv(
+def write_csv(
     path: pathlib.Path, columns: tuple[str, ...], table: np.ndarray, int_cols: tuple = ()
 ) -> None:
     with open(path, "w", newline="") as f:
@@ -444,7 +444,7 @@ def _write_interface_csv(path: pathlib.Path, iface) -> None:
         iface.points, iface.pressure, iface.tangential_traction, iface.gap, iface.slip,
         iface.state.astype(float), iface.displacement,
     ])  # fmt: skip
-    _write_csv(path, INTERFACE_COLUMNS, table, ("state",))
+    write_csv(path, INTERFACE_COLUMNS, table, ("state",))
 
 
 def _write_frame_csv(path: pathlib.Path, frame) -> None:
@@ -452,7 +452,7 @@ def _write_frame_csv(path: pathlib.Path, frame) -> None:
         frame.points, frame.pressure, frame.tangential_traction, frame.gap, frame.slip,
         frame.state.astype(float), frame.normals, frame.weights,
     ])  # fmt: skip
-    _write_csv(path, FRAME_COLUMNS, table, ("state",))
+    write_csv(path, FRAME_COLUMNS, table, ("state",))
 
 
 __all__ = [

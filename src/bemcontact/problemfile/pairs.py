@@ -94,7 +94,8 @@ def _pair(chk: Checker, where: str, value: Any, names: list[str], meshes: list[S
                            friction_coefficient=f["friction_coefficient"], frame=f["frame"],
                            search_distance=f.get("search_distance"), frame_on=frame_on,
                            relative_displacement=f["relative_displacement"],
-                           penalty=f.get("penalty"), bodies=(bodies[0], bodies[1]))
+                           penalty=f.get("penalty"), method=f["method"],
+                           grid_size=f.get("grid_size"), bodies=(bodies[0], bodies[1]))
     except BemcontactError as exc:  # pragma: no cover - checked above
         chk.wrap(where, exc, value)
     return PairSpec(where, (order[0], order[1]), pair)

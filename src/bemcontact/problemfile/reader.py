@@ -65,6 +65,7 @@ from ..output.write import (
 )
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
+from .method import on_grid
 from .pairs import read_pairs
 from .sizes import check_body_size, check_generated_size
 
@@ -117,6 +118,9 @@ class ProblemFile:
     #: the point the bodies are solved relative to when they lie far from the
     #: global origin (None: the global origin; :mod:`bemcontact.contact.origin`)
     origin: np.ndarray | None = field(init=False, repr=False, compare=False)
+    #: after :meth:`solve`: how a pair's ``method`` was followed ('' for the
+    #: full path asked for), one line
+    method_note: str = field(init=False, repr=False, compare=False, default="")
 
     def __post_init__(self) -> None:
         if len(self.bodies) == 2 and len(self.pairs) == 1:
@@ -142,6 +146,17 @@ class ProblemFile:
         options = self.options
         if threads is not None:
             options = dataclasses.replace(options, threads=threads)
+        object.__setattr__(self, "method_note", "")
+        method = self.pairs[0].method if len(self.pairs) == 1 else "full"
+        if len(self.pairs) > 1 and any(p.method == "multiscale" for p in self.pairs):
+            raise ConfigError(f"{self.path}: contact.method = \"multiscale\" solves two bodies "
+                              "in one pair; use method = \"full\" for an assembly",
+                              location={"field": "contact.method"})
+        if method != "full":
+            grid, note = on_grid(self._contact, self.steps, method, options)
+            object.__setattr__(self, "method_note", note)
+            if grid is not None:
+                return grid
         return self._contact.solve(options, steps=self.steps or None, progress=progress,
                                    raise_on_failure=raise_on_failure)
 
@@ -150,6 +165,12 @@ class ProblemFile:
         files the ``[output]`` table asks for, the problem file's content in
         ``summary.json`` (all or nothing, and never over files bemcontact did
         not write unless ``force``: :func:`~bemcontact.output.write_results`)."""
+        from ..multiscale.pair import GridResult
+
+        if isinstance(result, GridResult):
+            from ..output.grid import write_grid_results
+
+            return write_grid_results(result, out_dir, self.echo, self.output, force=force)
         return write_results(result, out_dir, self.echo, self.output, force=force)
 
     def contact_problem(self) -> ContactProblem:

@@ -221,7 +221,7 @@ CONTACT = Key(
             "`auto` (on the flat surface if exactly one is flat, between two curved ones, on "
             "the coarser of two flat ones), `between` the two surfaces (midway, normals "
             "bisecting theirs), `coarser` or a body name (on that surface)", default="auto"),
-        *keys_of(ContactPair, "penalty"),
+        *keys_of(ContactPair, "penalty", "method", "grid_size"),
     ),
 )
 

@@ -60,7 +60,7 @@ def test_chebyshev_interpolation_reproduces_polynomials():
 
 
 @pytest.mark.validation
-def test_corrected_grid_against_the_full_path_on_a_sphere_and_block():
+def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_on_block):
     """The benchmark's steel sphere (R = 10) on a steel block (20 × 20 × 10,
     base clamped), frictionless, approach 0.03 mm of the sphere's base, a/h
     = 8.  Full path: both bodies meshed at h in the contact zone (5.6 s).
@@ -78,11 +78,7 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block():
     coarse data: docs/theory.md)."""
     a_over_h = 8.0
     a_guess = math.sqrt(10.0 * 0.03)
-    h = a_guess / a_over_h
-    fine = cases.SphereOnBlock(size_profile=((0.0, h), (1.1 * a_guess, h)), growth=0.45)
-    res = cases.sphere_on_block(h, 0.03, friction_coefficient=0.0, setup=fine).solve()
-    P_full = res.history[0].normal_force
-    r, p, *_ = cases.radial_profile(res.history[0].frame)
+    P_full, r, p, h = full_sphere_on_block
     coarse = cases.SphereOnBlock(fine_radius=1.0, growth=0.45)
     block, sphere = cases.sphere_on_block(0.5, 0.03, setup=coarse).bodies
     nx = scipy.fft.next_fast_len(int(math.ceil(2.3 * a_over_h)))

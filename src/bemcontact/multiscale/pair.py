@@ -1,0 +1,504 @@
+"""A two-body contact problem solved on the contact grid: the bodies at the
+scale of their geometry (their coarse BEM models give each its correction),
+the contact zone at the scale of the contact.
+
+From a :class:`~bemcontact.contact.ContactProblem` of two bodies and its
+load steps, :func:`solve_on_grid`
+
+1. finds the contact plane: the closest nodes of the two contact surfaces,
+   the normal of body 1's surface there (it must lie along a coordinate axis,
+   so that each frame component is one component of the bodies' supports);
+2. fits each contact surface near that point with a quartic in the plane's
+   coordinates, from its mesh nodes (which lie on the true surface even
+   when the facets between them do not): the initial gap at the grid's
+   cells and each surface's curvature;
+3. reads the supports of each body in every step: each component of a
+   body's supports is a rigid translation (prescribed displacement, the
+   same on every region) or a platen force (``Force``); any other load is
+   refused (the full path takes it);
+4. sizes the grid: a pass on a coarse grid without corrections finds the
+   largest contact over the history, the grid then covers it with a margin
+   at cells of ``grid_size`` (default: its smaller half-width / 25);
+5. builds each body's correction (:class:`~.correction.BodyCorrection`) and
+   solves every increment (:class:`~.interface.GridInterface`), checking each
+   step's solution against the contact conditions.
+
+Body 1 is the pair's first body; the frame normal points from it into body
+2, and the grid tractions act on body 2."""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.fft
+import scipy.optimize
+import scipy.spatial
+
+from ..bem.conditions import Displacement, Force, Pressure, Traction
+from ..contact.history import LoadStep, checked_states
+from ..contact.law import OPEN, SLIP, STICK
+from ..contact.options import SolverOptions
+from ..contact.verification import EPS
+from ..errors import ConfigError, ConvergenceError
+from ..halfspace import Compliance, Grid
+from ..settings import Key, check_settings, setting
+from .correction import BodyCorrection
+from .interface import GridInterface
+from .operator import PairOperator
+
+#: Nodes of each contact surface the quartic fit uses (the nearest to the
+#: contact point, at least): 15 coefficients, so the fit is overdetermined.
+FIT_NODES = 60
+
+
+@dataclass(frozen=True)
+class GridOptions:
+    """How the contact grid is made (``[contact] grid_size``, ``cells_per_radius``)."""
+
+    grid_size: float | None = setting(Key(
+        "grid_size", "number", "the cell size of the contact grid (a length); default: the "
+        "largest contact's smaller half-width / cells_per_radius", default=None, lo=0,
+        lo_open=True))
+    cells_per_radius: float = setting(Key(
+        "cells_per_radius", "number", "cells per contact half-width when grid_size is not given",
+        default=25.0, lo=4.0, hi=400.0))
+    margin: float = setting(Key(
+        "margin", "number", "the grid's half-width over the largest contact's", default=1.15,
+        lo=1.02, hi=4.0))
+    anchors: int = setting(Key(
+        "anchors", "integer", "Chebyshev sources per direction of each body's correction",
+        default=3, lo=2, hi=8))
+
+    def __post_init__(self) -> None:
+        check_settings(self)
+
+
+@dataclass
+class GridState:
+    """The state at the end of one load step on the grid: tractions ``p``
+    (n, 3) on body 2 (frame components), relative displacements ``k`` (n, 3)
+    (``k[:, 2]`` the gap), contact ``state`` (n,), rigid displacement ``d``
+    (3,) of body 2 relative to body 1 (frame components), contact force (3,)
+    on body 2 (frame components), and the checks of the contact conditions."""
+
+    label: str
+    p: np.ndarray
+    k: np.ndarray
+    state: np.ndarray
+    d: np.ndarray
+    force: np.ndarray
+    checks: dict
+
+
+@dataclass
+class GridResult:
+    """A contact solved on the grid (:func:`solve_on_grid`)."""
+
+    names: tuple[str, str]
+    grid: Grid
+    origin: np.ndarray
+    axes: np.ndarray
+    gap: np.ndarray
+    history: list[GridState]
+    records: list
+    corrections: list[BodyCorrection]
+    timings: dict = field(default_factory=dict)
+    #: how the method was chosen: ``requested``, ``used``, ``reason`` and the
+    #: :func:`applicability` checks (set by the caller that chose it)
+    method: dict = field(default_factory=dict)
+
+    @property
+    def converged(self) -> bool:
+        return all(r.converged for r in self.records)
+
+    @property
+    def points(self) -> np.ndarray:
+        """(n, 3) the cell centres in global coordinates."""
+        return self.origin + self.grid.centres @ self.axes
+
+    def summary(self) -> dict:
+        """JSON-ready: the method, the grid, the corrections' estimates, and
+        per step the forces, the rigid displacement, the contact area and
+        counts, and the checks."""
+        g = self.grid
+        steps = []
+        for s in self.history:
+            closed = s.state != OPEN
+            steps.append({
+                "label": s.label,
+                "contact_force": (s.force @ self.axes).tolist(),
+                "normal_force": float(s.force[2]),
+                "tangential_force": float(np.hypot(s.force[0], s.force[1])),
+                "rigid_displacement": (s.d @ self.axes).tolist(),
+                "contact_area": float(closed.sum() * g.cell_area),
+                "cells": {"closed": int(closed.sum()), "stick": int((s.state == STICK).sum()),
+                          "slip": int((s.state == SLIP).sum())},
+                "peak_pressure": float(s.p[:, 2].max(initial=0.0)),
+                "verification": s.checks,
+            })
+        return {
+            "method": {"used": "multiscale", **self.method},
+            "grid": {"nx": g.nx, "ny": g.ny, "cell_size": [g.dx, g.dy],
+                     "origin": self.origin.tolist(), "axes": self.axes.tolist()},
+            "corrections": {c.body.name: {"estimate": c.estimate, "anchor_error": c.anchor_error,
+                                          "fit_error": c.fit_error, "coarse_nodes":
+                                          int(c.body.discretization.n_points),
+                                          "curvature": list(c.curvature), "seconds": c.seconds}
+                            for c in self.corrections},
+            "newton_iterations": [r.iterations for r in self.records],
+            "krylov_iterations": [r.krylov_iterations for r in self.records],
+            "timings": self.timings,
+            "steps": steps,
+        }
+
+
+def _region_nodes(body, region: str) -> np.ndarray:
+    d = body.discretization
+    return np.flatnonzero(d.region == body.mesh.region_names.index(region))
+
+
+def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
+    """(origin (3,), axes (3, 3) rows t1, t2, n): the midpoint of the two
+    contact surfaces' closest nodes and body 1's normal there (from body 1
+    into body 2), which must lie along a coordinate axis."""
+    P1 = b1.discretization.points[_region_nodes(b1, s1)]
+    P2 = b2.discretization.points[_region_nodes(b2, s2)]
+    dist, j = scipy.spatial.cKDTree(P2).query(P1)
+    i = int(np.argmin(dist))
+    x0 = 0.5 * (P1[i] + P2[j[i]])
+    near = P1[scipy.spatial.cKDTree(P1).query(P1[i], k=min(12, len(P1)))[1]]
+    n = np.linalg.svd(near - near.mean(axis=0))[2][-1]
+    c1 = b1.discretization.points.mean(axis=0)
+    c2 = b2.discretization.points.mean(axis=0)
+    if (c2 - c1) @ n < 0:
+        n = -n
+    k = int(np.argmax(np.abs(n)))
+    if abs(n[k]) < 1.0 - 1e-6:
+        raise ConfigError(
+            f"method = \"multiscale\": the contact normal {np.round(n, 6).tolist()} at "
+            f"{np.round(x0, 6).tolist()} does not lie along a coordinate axis (the supports' "
+            "components must map to the frame's); use method = \"full\"",
+            location={"field": "contact.method"})
+    e = np.eye(3)
+    normal = np.sign(n[k]) * e[k]
+    t1 = e[(k + 1) % 3]
+    t2 = np.cross(normal, t1)
+    return x0, np.array([t1, t2, normal])
+
+
+def surface_fit(body, region: str, origin, axes, radius: float | None = None):
+    """The quartic ζ(ξ, η) fitted to the nodes of ``region`` nearest to
+    ``origin`` in the frame (ξ, η, ζ); returns (coefficients, the fit's
+    radius, its rms residual)."""
+    P = (body.discretization.points[_region_nodes(body, region)] - origin) @ axes.T
+    r = np.hypot(P[:, 0], P[:, 1])
+    order = np.argsort(r)
+    take = order[: max(FIT_NODES, int(np.sum(r <= radius)) if radius else 0)]
+    if take.size < 20:
+        raise ConfigError(f"{body.name}: the contact surface {region!r} has {take.size} nodes "
+                          "near the contact point: too few to fit its shape (at least 20)")
+    V = _monomials(P[take, 0], P[take, 1])
+    coef, *_ = np.linalg.lstsq(V, P[take, 2], rcond=None)
+    resid = float(np.sqrt(np.mean((V @ coef - P[take, 2]) ** 2)))
+    return coef, float(r[take].max()), resid
+
+
+def _spacing(body, region: str, origin) -> float:
+    """The distance from ``origin`` to the 8th nearest node of ``region``."""
+    P = body.discretization.points[_region_nodes(body, region)]
+    d = np.sort(np.linalg.norm(P - origin, axis=1))
+    return float(d[min(7, d.size - 1)])
+
+
+def _poly(coef, xy) -> float:
+    return float(_monomials(np.array([xy[0]]), np.array([xy[1]]))[0] @ coef)
+
+
+def _gap_minimum(coef, radius: float) -> np.ndarray:
+    """(ξ, η) of the smallest value of the quartic gap within ``radius``
+    (a bounded minimization from the origin)."""
+    res = scipy.optimize.minimize(lambda v: _poly(coef, v), np.zeros(2), method="L-BFGS-B",
+                                  bounds=[(-radius, radius)] * 2)
+    return np.asarray(res.x, dtype=float)
+
+
+def _monomials(x, y) -> np.ndarray:
+    return np.stack([x**i * y**(d - i) for d in range(5) for i in range(d, -1, -1)], axis=-1)
+
+
+def _supports(body, conditions) -> tuple[np.ndarray, np.ndarray]:
+    """(U, F) (3,) global: per component the rigid translation of the body's
+    supports (NaN where force controlled or free) and the platen force (NaN
+    where not force controlled)."""
+    U = np.full(3, np.nan)
+    F = np.full(3, np.nan)
+    for region, items in conditions.items():
+        for bc in items:
+            where = {"body": body.name, "region": region}
+            if isinstance(bc, Pressure):
+                if bc.pressure != 0.0:
+                    raise ConfigError(f"{body.name}: region {region!r} carries a pressure: "
+                                      "method = \"multiscale\" loads bodies only through rigid "
+                                      "supports and platen forces; use method = \"full\"",
+                                      location=where)
+                continue
+            if callable(bc.value):
+                raise ConfigError(f"{body.name}: region {region!r}: a field-valued condition; "
+                                  "method = \"multiscale\" takes constant supports only; use "
+                                  "method = \"full\"", location=where)
+            for c, v in enumerate(bc.value):
+                if v is None:
+                    continue
+                if isinstance(bc, Traction):
+                    if v != 0.0:
+                        raise ConfigError(f"{body.name}: region {region!r} carries a traction: "
+                                          "method = \"multiscale\" loads bodies only through "
+                                          "rigid supports and platen forces; use method = "
+                                          "\"full\"", location=where)
+                elif isinstance(bc, Displacement):
+                    if not np.isnan(U[c]) and U[c] != v:
+                        raise ConfigError(f"{body.name}: its supports move apart in component "
+                                          f"{'xyz'[c]} ({U[c]:g} and {v:g}): method = "
+                                          "\"multiscale\" takes one rigid translation per body; "
+                                          "use method = \"full\"", location=where)
+                    U[c] = v
+                elif isinstance(bc, Force):
+                    F[c] = v if np.isnan(F[c]) else F[c] + v
+    return U, F
+
+
+def _targets(states1, states2, axes) -> tuple[np.ndarray, np.ndarray]:
+    """Per frame component: the contact force on body 2 (NaN where the
+    rigid displacement is prescribed) and the rigid displacement of body 2
+    relative to body 1."""
+    (U1, F1), (U2, F2) = states1, states2
+    force = np.full(3, np.nan)
+    shift = np.zeros(3)
+    for j in range(3):
+        g = int(np.argmax(np.abs(axes[j])))
+        s = float(np.sign(axes[j, g]))
+        f1, f2 = not np.isnan(F1[g]), not np.isnan(F2[g])
+        u1 = 0.0 if np.isnan(U1[g]) else U1[g]
+        u2 = 0.0 if np.isnan(U2[g]) else U2[g]
+        if f1 and f2:
+            raise ConfigError(f"both bodies are force controlled in {'xyz'[g]}: nothing holds "
+                              "them there", location={"field": "contact.method"})
+        if f2:
+            force[j] = -s * F2[g]
+        elif f1:
+            force[j] = s * F1[g]
+        else:
+            shift[j] = s * (u2 - u1)
+    return force, shift
+
+
+def _held(body, conditions):
+    U, F = _supports(body, conditions)
+    free = [c for c in range(3) if np.isnan(U[c]) and np.isnan(F[c])]
+    if free:
+        raise ConfigError(f"{body.name}: nothing holds it in {', '.join('xyz'[c] for c in free)}: "
+                          "method = \"multiscale\" needs each body supported or force "
+                          "controlled in every component; use method = \"full\"",
+                          location={"body": body.name})
+
+
+def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
+                  solver: SolverOptions | None = None) -> GridResult:
+    """Solve ``problem`` (a two-body :class:`~bemcontact.contact.ContactProblem`)
+    through its load ``steps`` (default: one step to the bodies' own
+    conditions) on the contact grid (see the module docstring)."""
+    t0 = time.perf_counter()
+    opt = options or GridOptions(grid_size=getattr(problem.pairs[0], "grid_size", None))
+    solver = solver or SolverOptions()
+    bodies = list(problem.bodies)
+    if len(bodies) != 2 or len(problem.pairs) != 1:
+        raise ConfigError("method = \"multiscale\" solves two bodies in one contact pair; use "
+                          "method = \"full\" for an assembly", location={"field": "contact.method"})
+    pair = problem.pairs[0]
+    b1, b2 = (bodies[a] for a in problem.links[0])
+    s1, s2 = pair.surface1, pair.surface2
+    for b in (b1, b2):
+        if not hasattr(b, "mixed_system"):
+            raise ConfigError(f"{b.name}: method = \"multiscale\" needs a BEM body (its coarse "
+                              "model gives its correction)", location={"body": b.name})
+    steps = list(steps) if steps else [LoadStep()]
+    states = checked_states([b1, b2], [(s1,), (s2,)], steps)
+    for b, c in zip((b1, b2), states[0]):
+        _held(b, c)
+    origin, axes = contact_plane(b1, s1, b2, s2)
+    # the closest nodes need not be the closest points of the surfaces (a
+    # sphere's apex above a coarse block's node): the gap of the fitted
+    # surfaces is minimized, and the fits are made again about its minimum
+    for _ in range(3):
+        c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * _spacing(b1, s1, origin))
+        c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * _spacing(b2, s2, origin))
+        xy = _gap_minimum(c2 - c1, 0.8 * min(r1, r2))
+        moved = xy @ axes[:2] + 0.5 * (_poly(c1, xy) + _poly(c2, xy)) * axes[2]
+        origin = origin + moved
+        if np.linalg.norm(xy) <= 1e-9 * min(r1, r2):
+            break
+    c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * _spacing(b1, s1, origin))
+    c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * _spacing(b2, s2, origin))
+    targets = [_targets(_supports(b1, st[0]), _supports(b2, st[1]), axes) for st in states]
+    fit_radius = min(r1, r2)
+    m1, m2 = b1.material, b2.material
+    pair_c = Compliance.pair(m1.shear_modulus, m1.poisson_ratio, m2.shear_modulus,
+                             m2.poisson_ratio)
+    mu = float(pair.friction_coefficient)
+
+    def gap_on(grid):
+        c = grid.centres
+        V = _monomials(c[:, 0], c[:, 1])
+        return V @ c2 - V @ c1
+
+    def run(grid, corrections, report):
+        gi = GridInterface(PairOperator(grid, pair_c, corrections), gap_on(grid), mu, solver)
+        prev_f, prev_s = np.zeros(3), np.zeros(3)
+        out, records = [], []
+        for i, ((force, shift), step) in enumerate(zip(targets, steps)):
+            n_inc = step.increments
+            for k in range(1, n_inc + 1):
+                t = k / n_inc
+                f = np.where(np.isnan(force), np.nan, prev_f + t * (np.nan_to_num(force) - prev_f))
+                s = prev_s + t * (shift - prev_s)
+                rec = gi.solve_increment(f, s)
+                records.append(rec)
+                if not rec.converged:
+                    hist = ", ".join(f"{x:.1e}" for x in rec.residual_history[-8:])
+                    raise ConvergenceError(
+                        f"step {i + 1}{f' ({step.label})' if step.label else ''}, increment "
+                        f"{k}/{n_inc} on the contact grid: {rec.message} (residual history "
+                        f"{hist})")
+            prev_f = np.where(np.isnan(force), gi.force(), force)
+            prev_s = gi.d.copy()
+            if report:
+                out.append(_state(gi, step.label or f"step {i + 1}", force))
+            else:
+                out.append(gi.state())
+        return out, records, gi
+
+    # the coarse pass: the largest contact over the history
+    a_est = max(fit_radius / 4.0, 1e-12)
+    half = None
+    for _ in range(8):
+        cells = 32
+        h = 2.0 * a_est * 1.5 / cells
+        g = Grid.centred(cells, cells, h, h)
+        st, _, _ = run(g, [], report=False)
+        closed = np.zeros(g.size, dtype=bool)
+        for s in st:
+            closed |= s != OPEN
+        if not closed.any():
+            a_est *= 2.0
+            continue
+        ij = np.argwhere(closed.reshape(g.nx, g.ny))
+        if ij.min() == 0 or ij[:, 0].max() == g.nx - 1 or ij[:, 1].max() == g.ny - 1:
+            a_est *= 2.0
+            continue
+        xy = g.centres[closed][:, :2]
+        half = np.abs(xy).max(axis=0) + 0.5 * h
+        break
+    if half is None:
+        raise ConfigError("method = \"multiscale\": no contact zone found on the grid (the "
+                          "bodies do not touch under these loads?)",
+                          location={"field": "contact.method"})
+    cell = opt.grid_size or float(half.min()) / opt.cells_per_radius
+    if opt.margin * float(np.hypot(*half)) > fit_radius:
+        fit_radius_needed = opt.margin * float(np.hypot(*half))
+        c1, _, e1 = surface_fit(b1, s1, origin, axes, fit_radius_needed)
+        c2, _, e2 = surface_fit(b2, s2, origin, axes, fit_radius_needed)
+    nx = scipy.fft.next_fast_len(int(math.ceil(2.0 * opt.margin * half[0] / cell)))
+    ny = scipy.fft.next_fast_len(int(math.ceil(2.0 * opt.margin * half[1] / cell)))
+    grid = Grid.centred(nx, ny, cell, cell)
+    t1 = time.perf_counter()
+    k1 = (-2.0 * c1[3], -2.0 * c1[5])  # body 1's local depth is -ζ1
+    k2 = (2.0 * c2[3], 2.0 * c2[5])
+    corrections = [BodyCorrection(b1, 1, origin, axes, grid, opt.anchors, curvature=k1),
+                   BodyCorrection(b2, 2, origin, axes, grid, opt.anchors, curvature=k2)]
+    t2 = time.perf_counter()
+    history, records, _ = run(grid, corrections, report=True)
+    t3 = time.perf_counter()
+    return GridResult((b1.name, b2.name), grid, origin, axes, gap_on(grid), history, records,
+                      corrections, {"sizing": t1 - t0, "corrections": t2 - t1,
+                                    "solve": t3 - t2, "total": t3 - t0,
+                                    "surface_fit_rms": [e1, e2]})
+
+
+#: The bounds of :func:`applicability`: the corrections' error estimate, the
+#: contact's size against each surface's radius of curvature (the half-space
+#: near field is first order in a/R), against the distance to the contact
+#: surface's edge and against the body's thickness along the normal.
+LIMITS = {"estimate": 1e-2, "a_over_R": 0.1, "edge_over_a": 5.0, "thickness_over_a": 5.0}
+
+
+def applicability(result: GridResult, problem) -> dict:
+    """Whether the grid's answer can stand for the bodies': per check its
+    value, its bound (:data:`LIMITS`) and whether it holds; ``reason`` those
+    that fail ('' when all hold)."""
+    g = result.grid
+    a = 0.5 * min(g.nx * g.dx, g.ny * g.dy)  # the grid's half-width: above the contact's
+    checks = {}
+    est = max(c.estimate for c in result.corrections)
+    checks["estimate"] = (est, LIMITS["estimate"], est <= LIMITS["estimate"])
+    curv = max(abs(k) for c in result.corrections for k in c.curvature)
+    checks["a_over_R"] = (curv * a, LIMITS["a_over_R"], curv * a <= LIMITS["a_over_R"])
+    pair = problem.pairs[0]
+    edge, thick = np.inf, np.inf
+    for c, region in zip(result.corrections, (pair.surface1, pair.surface2)):
+        d = c.body.discretization
+        own = d.region == c.body.mesh.region_names.index(region)
+        X = (d.points - result.origin) @ result.axes.T
+        # the contact surface's edge: its nodes' hull in the plane
+        hull = scipy.spatial.ConvexHull(X[own, :2])
+        edge = min(edge, float(np.min(-hull.equations[:, 2])))
+        thick = min(thick, float(np.ptp(X[:, 2])))
+    checks["edge_over_a"] = (edge / a, LIMITS["edge_over_a"], edge / a >= LIMITS["edge_over_a"])
+    checks["thickness_over_a"] = (thick / a, LIMITS["thickness_over_a"],
+                                  thick / a >= LIMITS["thickness_over_a"])
+    reasons = []
+    for name, (value, bound, ok) in checks.items():
+        if not ok:
+            reasons.append({"estimate": f"the corrections' error estimate {value:.2g} > {bound:g}",
+                      "a_over_R": f"a conformal contact (a/R = {value:.2g} > {bound:g})",
+                      "edge_over_a": f"the contact {value:.2g} contact widths from an edge "
+                                     f"(< {bound:g})",
+                      "thickness_over_a": f"a thin body ({value:.2g} contact widths thick, "
+                                          f"< {bound:g})"}[name])
+    reason = "; ".join(reasons)
+    return {"checks": {n: {"value": v, "bound": b, "holds": bool(ok)}
+                       for n, (v, b, ok) in checks.items()}, "reason": reason}
+
+
+def _state(gi: GridInterface, label: str, target) -> GridState:
+    k = gi.k(gi.p, gi.d)
+    state = gi.state()
+    p = gi.p
+    sigma = max(float(np.abs(p).max(initial=0.0)), 1e-300)
+    r = float(np.max(gi.law.r))
+    q = np.linalg.norm(p[:, :2], axis=1)
+    mu = np.broadcast_to(gi.law.mu, (gi.n,))
+    F = gi.force()
+    free = np.isfinite(target)
+    checks = {
+        "penetration": {"worst": float(max(-k[:, 2].min(initial=0.0), 0.0)),
+                        "tolerance": EPS * sigma / r},
+        "tension": {"worst": float(max(-p[:, 2].min(initial=0.0), 0.0)), "tolerance": EPS * sigma},
+        "complementarity": {"worst": float(np.abs(p[:, 2] * k[:, 2]).max(initial=0.0)),
+                            "tolerance": EPS * sigma * sigma / r},
+        "cone": {"worst": float(max((q - mu * p[:, 2]).max(initial=0.0), 0.0)),
+                 "tolerance": EPS * sigma},
+        "force": {"worst": float(np.abs(F[free] - target[free]).max(initial=0.0)),
+                  "tolerance": EPS * max(float(np.abs(F).max()), 1e-300)},
+    }
+    failed = [n for n, c in checks.items() if c["worst"] > c["tolerance"]]
+    if failed:
+        raise ConvergenceError(f"{label}: the grid solution fails the {', '.join(failed)} "
+                               f"check(s) ({checks[failed[0]]})")
+    return GridState(label, p.copy(), k, state, gi.d.copy(), F, checks)
+
+
+__all__ = ["LIMITS", "GridOptions", "GridResult", "GridState", "applicability", "contact_plane",
+           "solve_on_grid", "surface_fit"]

@@ -1,0 +1,144 @@
+"""The files of a contact solved on the contact grid (method
+``"multiscale"``: :class:`~bemcontact.multiscale.pair.GridResult`), written
+all or nothing as :func:`~bemcontact.output.write.write_results` writes a
+full result:
+
+* ``summary.json``: the method (requested, used, why, the applicability
+  checks), the grid, each body's correction and its error estimate, and per
+  load step the contact force, the rigid displacement of body 2 relative to
+  body 1, the contact area, the cells closed, in stick and in slip, the peak
+  pressure and the checks of the contact conditions;
+* ``grid.csv``: per cell its centre (global), pressure, tangential traction
+  (global), gap, relative tangential displacement and state, at the last step;
+* ``grid.vtu``: the cells as quadrilaterals with those fields as cell data;
+* ``grid_tractions.png``: pressure and tangential traction maps (with
+  matplotlib).
+"""
+
+from __future__ import annotations
+
+import os
+import pathlib
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..multiscale.pair import GridResult
+from .rundir import RunDirectory
+from .vtu import write_vtu
+from .write import (OutputOptions, figures_by_default, require_matplotlib, summary, write_csv,
+                    write_json)
+
+#: Columns of ``grid.csv``.
+GRID_COLUMNS = ("x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y",
+                "slip_z", "state")
+
+
+def _fields(result: GridResult):
+    s = result.history[-1]
+    A = result.axes
+    traction = np.zeros_like(s.p)
+    traction[:, :2] = s.p[:, :2]
+    slip = np.zeros_like(s.k)
+    slip[:, :2] = s.k[:, :2]
+    return {"pressure": s.p[:, 2], "tangential_traction": traction @ A, "gap": s.k[:, 2],
+            "slip": slip @ A, "state": s.state.astype(np.int32)}
+
+
+def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirectory,
+                       problem_echo: Mapping[str, Any] | None = None,
+                       options: OutputOptions | None = None, *,
+                       force: bool = False) -> list[pathlib.Path]:
+    """Write the files of the module docstring into ``out_dir`` and return
+    their paths."""
+    if not isinstance(result, GridResult):
+        raise ConfigError(f"write_grid_results: expected a GridResult, got "
+                          f"{type(result).__name__}")
+    opt = OutputOptions(figures=figures_by_default()) if options is None else options
+    if opt.figures:
+        require_matplotlib("write_grid_results: figures")
+    files = ["summary.json"]
+    files += ["grid.vtu"] if opt.vtu else []
+    files += ["grid.csv"] if opt.csv else []
+    files += ["grid_tractions.png"] if opt.figures else []
+    f = _fields(result)
+    rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
+    with rundir.staging() as tmp:
+        data = {**result.summary(), "names": list(result.names)}
+        write_json(tmp / "summary.json", summary(data, problem_echo))
+        if opt.csv:
+            table = np.column_stack([result.points, f["pressure"], f["tangential_traction"],
+                                     f["gap"], f["slip"], f["state"].astype(float)])
+            write_csv(tmp / "grid.csv", GRID_COLUMNS, table, ("state",))
+        if opt.vtu:
+            points, quads = _quads(result)
+            write_vtu(tmp / "grid.vtu", points, [("quad", quads)], {},
+                       cell_data={k: [np.asarray(v)] for k, v in f.items()})
+        if opt.figures:
+            _figure(tmp / "grid_tractions.png", result, f, (problem_echo or {}).get("units"))
+    out = pathlib.Path(rundir.given)
+    return [out / name for name in files]
+
+
+def _quads(result: GridResult):
+    g = result.grid
+    x = g.origin[0] + g.dx * np.arange(g.nx + 1)
+    y = g.origin[1] + g.dy * np.arange(g.ny + 1)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    local = np.stack([X.ravel(), Y.ravel(), np.zeros(X.size)], axis=1)
+    points = result.origin + local @ result.axes
+    i, j = np.divmod(np.arange(g.size), g.ny)
+    corner = lambda a, b: (i + a) * (g.ny + 1) + (j + b)  # noqa: E731
+    quads = np.stack([corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)], axis=1)
+    return points, quads
+
+
+def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plot import save_png
+
+    g = result.grid
+    stress = (units or {}).get("stress", "")
+    length = (units or {}).get("length", "")
+    extent = (g.origin[0], g.origin[0] + g.nx * g.dx, g.origin[1], g.origin[1] + g.ny * g.dy)
+    q = np.linalg.norm(f["tangential_traction"], axis=1)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    for ax, values, name in ((axes[0], f["pressure"], "pressure"),
+                             (axes[1], q, "tangential traction")):
+        im = ax.imshow(values.reshape(g.nx, g.ny).T, origin="lower", extent=extent,
+                       cmap="viridis")
+        ax.set_title(name)
+        ax.set_xlabel(f"t1 [{length}]" if length else "t1")
+        ax.set_ylabel(f"t2 [{length}]" if length else "t2")
+        fig.colorbar(im, ax=ax, label=f"{name} [{stress}]" if stress else name)
+    fig.suptitle(f"the contact grid, {g.nx} × {g.ny} cells of {g.dx:.3g}"
+                 + (f" {length}" if length else "") + f", step {result.history[-1].label}")
+    save_png(fig, path)
+    plt.close(fig)
+
+
+def report(result: GridResult, note: str, unit: str, force, tolerance: float) -> str:
+    """The lines ``bemcontact run`` prints for a contact solved on the grid
+    (``force(value, floor, unit)`` formats a force)."""
+    s = result.summary()
+    est = max(c["estimate"] for c in s["corrections"].values())
+    last = s["steps"][-1]
+    floor = 10.0 * tolerance * max(abs(last["normal_force"]), 1e-300)
+    return "\n".join([
+        f"converged on the contact grid in {sum(s['newton_iterations'])} Newton iteration(s), "
+        f"{len(s['steps'])} load step(s) in {len(s['newton_iterations'])} increment(s), "
+        f"{s['timings']['total']:.2f} s", f"  {note}",
+        f"  the bodies' corrections: error estimate {est:.1g}",
+        f"  normal force      {force(last['normal_force'], floor, unit)}",
+        f"  tangential force  {force(last['tangential_force'], floor, unit)}",
+        f"  grid ({result.grid.size} cells): {last['cells']['closed']} closed, "
+        f"{last['cells']['stick']} stick, {last['cells']['slip']} slip"])
+
+
+__all__ = ["GRID_COLUMNS", "report", "write_grid_results"]

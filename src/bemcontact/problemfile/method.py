@@ -1,0 +1,38 @@
+"""How a pair's ``method`` is followed: the contact grid for
+``"multiscale"``, and for ``"auto"`` where it applies (its applicability
+checks: :func:`~bemcontact.multiscale.pair.applicability`), else the full
+path, said in one line."""
+
+from __future__ import annotations
+
+from ..contact import LoadStep, SolverOptions
+from ..errors import ConfigError, ConvergenceError
+from ..multiscale.pair import applicability, solve_on_grid
+
+
+def on_grid(problem, steps, method: str, options: SolverOptions):
+    """(the :class:`~bemcontact.multiscale.pair.GridResult`, or None when
+    ``method`` is "auto" and the grid does not apply; the line that says
+    which path solved it and why) for the two-body ``problem`` (a
+    :class:`~bemcontact.contact.ContactProblem`) and its load ``steps``."""
+    steps = steps or (LoadStep(increments=options.load_steps),)
+    try:
+        result = solve_on_grid(problem, steps, solver=options)
+    except (ConfigError, ConvergenceError) as exc:
+        if method == "multiscale":
+            raise
+        return None, f"contact.method = \"auto\": the full path ({exc})"
+    app = applicability(result, problem)
+    if method == "auto" and app["reason"]:
+        return None, f"contact.method = \"auto\": the full path ({app['reason']})"
+    result.method = {"requested": method,
+                     "reason": app["reason"] or "every applicability check holds",
+                     "applicability": app["checks"]}
+    note = (f"contact.method = \"{method}\": the contact grid "
+            f"({result.grid.nx} x {result.grid.ny} cells)")
+    if app["reason"]:
+        note += f"; warning: {app['reason']}, the full path would be more accurate"
+    return result, note
+
+
+__all__ = ["on_grid"]
