@@ -178,11 +178,17 @@ class BodyCorrection:
         self.curvature = (float(curvature[0]), float(curvature[1]))
         self.near_radius = 2.0 * float(np.hypot(*half))
         self._near = None
+        self.near_blocks = None
         if any(self.curvature):
             blocks = near_field_blocks(grid, self.G, self.nu, self.curvature, self.near_radius)
             if side == 1:
                 blocks = blocks[:, ::-1]
             self._near = ToeplitzOperator(grid, blocks)
+            #: the near field's blocks in the grid frame's terms (its part of
+            #: the relative displacement): :class:`~.operator.PairOperator`
+            #: adds them to the half-space kernels, one FFT product for all
+            F = np.diag(self.flip)
+            self.near_blocks = np.einsum("ij,xyjk,kl->xyil", F, blocks, F)
         # the fit's nodes: within the radius of the grid's centre
         r_plane = np.sqrt((X[:, 0] - mid[0]) ** 2 + (X[:, 1] - self.flip[1] * mid[1]) ** 2
                           + X[:, 2] ** 2)
@@ -274,13 +280,20 @@ class BodyCorrection:
 
     def matvec(self, p: np.ndarray) -> np.ndarray:
         """(n, 3) frame tractions on body 2 -> (n, 3) this body's part of the
-        relative displacement's correction."""
+        relative displacement's correction (:meth:`low_rank` plus the near
+        field of a curved face)."""
+        out = self.low_rank(p)
+        if self._near is not None:
+            sign = 1.0 if self.side == 2 else -1.0
+            out = out + sign * self._near.matvec(sign * p * self.flip) * self.flip
+        return out
+
+    def low_rank(self, p: np.ndarray) -> np.ndarray:
+        """The remainder's part of :meth:`matvec` (rank ≤ 3 p² × 6)."""
         sign = 1.0 if self.side == 2 else -1.0
         tl = sign * p * self.flip  # the traction on this body, local
         w = self.grid.cell_area * (self._L_cells.T @ tl)  # (p², 3)
         ul = self._Phi_cells @ np.einsum("ad,madc->mc", w, self._coef)
-        if self._near is not None:
-            ul = ul + self._near.matvec(tl)
         return sign * ul * self.flip
 
 

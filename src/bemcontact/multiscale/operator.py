@@ -40,6 +40,13 @@ class PairOperator:
         self.compliance = compliance
         self.halfspace = HalfSpaceOperator(grid, compliance)
         self.corrections = list(corrections)
+        # corrections with a block-Toeplitz part (a curved face's near field,
+        # ``near_blocks``) join the half-space kernels in one FFT product and
+        # add their ``low_rank`` part; the others add their ``matvec``
+        near = [c.near_blocks for c in self.corrections
+                if getattr(c, "near_blocks", None) is not None]
+        self._toeplitz = (ToeplitzOperator(grid, self.halfspace.blocks + sum(near))
+                          if near else None)
         nx, ny = grid.shape
         #: (3, 3) the half-space block of a cell on itself
         self.self_block = self.halfspace.blocks[nx - 1, ny - 1].copy()
@@ -64,9 +71,15 @@ class PairOperator:
 
     def matvec(self, t: np.ndarray) -> np.ndarray:
         """(n, 3) -> (n, 3): C t."""
-        u = self.halfspace.matvec(t)
+        if self._toeplitz is None:
+            u = self.halfspace.matvec(t)
+            for c in self.corrections:
+                u = u + c.matvec(t)
+            return u
+        u = self._toeplitz.matvec(t)
         for c in self.corrections:
-            u = u + c.matvec(t)
+            u = u + (c.low_rank(t) if getattr(c, "near_blocks", None) is not None
+                     else c.matvec(t))
         return u
 
     def halfspace_matvec(self, t: np.ndarray) -> np.ndarray:

@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.fft
+import scipy.interpolate
 import scipy.optimize
 import scipy.spatial
 
@@ -354,17 +355,29 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
         V = _monomials(c[:, 0], c[:, 1])
         return V @ c2 - V @ c1
 
-    def run(grid, corrections, report):
+    def run(grid, corrections, report, coarse=None):
+        """Every increment on ``grid``; one that starts with nothing in
+        contact starts from the ``coarse`` grid's solution of it when given
+        (grid sequencing: the fine Newton then starts with about the right
+        contact patch; from a first touch, Newton at a/h = 100 cycled), the
+        others from the previous increment's solution.  Returns the states
+        (or GridStates with ``report``), the records, the interface and the
+        solution (p, d) of each increment."""
         gi = GridInterface(PairOperator(grid, pair_c, corrections), gap_on(grid), mu, solver)
         prev_f, prev_s = np.zeros(3), np.zeros(3)
-        out, records = [], []
+        out, records, solutions = [], [], []
         for i, ((force, shift), step) in enumerate(zip(targets, steps)):
             n_inc = step.increments
             for k in range(1, n_inc + 1):
                 t = k / n_inc
                 f = np.where(np.isnan(force), np.nan, prev_f + t * (np.nan_to_num(force) - prev_f))
                 s = prev_s + t * (shift - prev_s)
-                rec = gi.solve_increment(f, s)
+                guess = None
+                if coarse is not None and not np.any(gi.p[:, 2] > 0.0):
+                    cg, (cp, cd) = coarse[0], coarse[1][len(solutions)]
+                    guess = (_prolong(cg, cp, grid), cd)
+                rec = gi.solve_increment(f, s, guess)
+                solutions.append((gi.p.copy(), gi.d.copy()))
                 records.append(rec)
                 if not rec.converged:
                     hist = ", ".join(f"{x:.1e}" for x in rec.residual_history[-8:])
@@ -378,7 +391,7 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
                 out.append(_state(gi, step.label or f"step {i + 1}", force))
             else:
                 out.append(gi.state())
-        return out, records, gi
+        return out, records, gi, solutions
 
     # the coarse pass: the largest contact over the history
     a_est = max(fit_radius / 4.0, 1e-12)
@@ -387,7 +400,7 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
         cells = 32
         h = 2.0 * a_est * 1.5 / cells
         g = Grid.centred(cells, cells, h, h)
-        st, _, _ = run(g, [], report=False)
+        st, _, _, coarse = run(g, [], report=False)
         closed = np.zeros(g.size, dtype=bool)
         for s in st:
             closed |= s != OPEN
@@ -419,7 +432,7 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
     corrections = [BodyCorrection(b1, 1, origin, axes, grid, opt.anchors, curvature=k1),
                    BodyCorrection(b2, 2, origin, axes, grid, opt.anchors, curvature=k2)]
     t2 = time.perf_counter()
-    history, records, _ = run(grid, corrections, report=True)
+    history, records, _, _ = run(grid, corrections, report=True, coarse=(g, coarse))
     t3 = time.perf_counter()
     return GridResult((b1.name, b2.name), grid, origin, axes, gap_on(grid), history, records,
                       corrections, {"sizing": t1 - t0, "corrections": t2 - t1,
@@ -470,6 +483,19 @@ def applicability(result: GridResult, problem) -> dict:
     reason = "; ".join(reasons)
     return {"checks": {n: {"value": v, "bound": b, "holds": bool(ok)}
                        for n, (v, b, ok) in checks.items()}, "reason": reason}
+
+
+def _prolong(coarse: Grid, p: np.ndarray, fine: Grid) -> np.ndarray:
+    """Tractions (n_coarse, 3) on ``coarse`` interpolated (bilinear, zero
+    outside) at the cell centres of ``fine``; a pressure stays ≥ 0."""
+    x = coarse.origin[0] + (np.arange(coarse.nx) + 0.5) * coarse.dx
+    y = coarse.origin[1] + (np.arange(coarse.ny) + 0.5) * coarse.dy
+    at = fine.centres[:, :2]
+    out = np.stack([scipy.interpolate.RegularGridInterpolator(
+        (x, y), p[:, c].reshape(coarse.nx, coarse.ny), bounds_error=False, fill_value=0.0)(at)
+        for c in range(3)], axis=1)
+    out[:, 2] = np.maximum(out[:, 2], 0.0)
+    return out
 
 
 def _state(gi: GridInterface, label: str, target) -> GridState:
