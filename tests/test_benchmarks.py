@@ -117,3 +117,14 @@ def test_grid_mindlin_benchmark_smoke():
     # the measures of tests/unit/multiscale (a/h = 12 there), coarser here
     assert abs(row["p0_err"]) < 5e-3 and row["q_l2"] < 0.05 and abs(row["dt_err"]) < 5e-3
     assert row["cpu_s"] > 0 and row["peak_rss_mb"] > 0
+
+
+def test_multiscale_mindlin_benchmark_smoke():
+    spec = importlib.util.spec_from_file_location("b_ms", BENCH / "multiscale_mindlin_vs_tamaas.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    row = mod.one(8.0)
+    # the whole run on the coarse bodies: docs/benchmarks.md's measures at a/h = 8
+    assert row["applies"] and row["estimate"] < 1e-2
+    assert abs(row["p0_err"]) < 0.01 and abs(row["c_err"]) < 0.03 and abs(row["dt_err"]) < 0.02
+    assert row["q_l2"] < 0.08 and row["cpu_s"] > 0
