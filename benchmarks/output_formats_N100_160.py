@@ -15,7 +15,7 @@ step in every format (the same content).
 Formats, one time series per surface (two series):
 
 * ``pvd``: ``steps/<name>_<k>.vtu`` + ``<name>.pvd`` through the package's own
-  writers (``output.vtu._write_vtu``: meshio's VTU, binary, zlib; region field
+  writers (``output.vtu.write_vtu``: meshio's VTU, binary, zlib; region field
   data; ``output.vtu.write_pvd``).
 * ``xdmf``: ``meshio.xdmf.TimeSeriesWriter`` (mesh once, the fields per step,
   one ``.h5`` + ``.xdmf`` per series; meshio writes HDF5 uncompressed and no
@@ -114,14 +114,14 @@ def build(divisions: int, steps: int) -> dict:
 
 
 def write_pvd(d: pathlib.Path, series: dict) -> None:
-    from bemcontact.output.vtu import _write_vtu, write_pvd as pvd
+    from bemcontact.output.vtu import write_vtu, write_pvd as pvd
 
     (d / "steps").mkdir()
     for name, s in series.items():
         n = len(s["fields"])
         w = len(str(n))
         for k, f in enumerate(s["fields"], 1):
-            _write_vtu(d / "steps" / f"{name}_{k:0{w}d}.vtu", s["points"], [("quad", s["conn"])],
+            write_vtu(d / "steps" / f"{name}_{k:0{w}d}.vtu", s["points"], [("quad", s["conn"])],
                        f, {kk: [v] for kk, v in s["cell_data"].items()}, s["field_data"])
         pvd(d / f"{name}.pvd", [(k, f"steps/{name}_{k:0{w}d}.vtu") for k in range(1, n + 1)])
 
