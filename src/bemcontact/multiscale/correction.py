@@ -176,7 +176,9 @@ class BodyCorrection:
         # a curved contact face: its near field on the grid (Toeplitz), the
         # coarse data leaving out what it covers
         self.curvature = (float(curvature[0]), float(curvature[1]))
-        self.near_radius = 2.0 * float(np.hypot(*half))
+        # the near field loads the cells of its (2nx − 1) × (2ny − 1) window
+        # about each source: the coarse data leave out what lies within it
+        self.near_radius = min((grid.nx - 1) * grid.dx, (grid.ny - 1) * grid.dy)
         self._near = None
         self.near_blocks = None
         if any(self.curvature):
@@ -273,9 +275,11 @@ class BodyCorrection:
         if self._near is not None:
             near = (np.linalg.norm(R, axis=1) <= self.near_radius) & (self._n[:, 2] < -0.5)
             t[near] = 0.0
-        vals = np.where(self._known.reshape(-1, 3)[:, :, None], -u, -t)  # (N, comp, dir)
-        # local components -> global
-        g = np.einsum("nkd,kj->njd", vals * self.flip[None, :, None], self.axes)
+        # local components -> global, then per global dof its kind of datum
+        def glob(v):
+            return np.einsum("nkd,kj->njd", v * self.flip[None, :, None], self.axes)
+
+        g = np.where(self._known.reshape(-1, 3)[:, :, None], glob(-u), glob(-t))
         return g.reshape(-1, 3)
 
     def matvec(self, p: np.ndarray) -> np.ndarray:

@@ -140,8 +140,10 @@ class GridInterface:
         shift = np.asarray(shift, dtype=float)
         free = np.flatnonzero(np.isfinite(force))
         fixed = np.flatnonzero(~np.isfinite(force))
-        self.d[fixed] = shift[fixed]
+        # the law's history from the state the increment starts from (the
+        # converged one, at the previous load), then the new prescribed shift
         self.start_increment()
+        self.d[fixed] = shift[fixed]
         if guess is not None:
             self.p = np.array(guess[0], dtype=float).reshape(self.n, 3)
             self.d[free] = np.asarray(guess[1], dtype=float)[free]

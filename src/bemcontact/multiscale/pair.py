@@ -28,6 +28,7 @@ Body 1 is the pair's first body; the frame normal points from it into body
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -43,7 +44,7 @@ from ..contact.history import LoadStep, checked_states
 from ..contact.law import OPEN, SLIP, STICK
 from ..contact.options import SolverOptions
 from ..contact.verification import EPS
-from ..errors import ConfigError, ConvergenceError
+from ..errors import BemcontactError, ConfigError, ConvergenceError
 from ..halfspace import Compliance, Grid
 from ..settings import Key, check_settings, setting
 from .correction import BodyCorrection
@@ -177,7 +178,10 @@ def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
     if (c2 - c1) @ n < 0:
         n = -n
     k = int(np.argmax(np.abs(n)))
-    if abs(n[k]) < 1.0 - 1e-6:
+    # a plane fitted to a curved surface's nodes tilts by about their spacing
+    # over its radius: an axis within 5 degrees is taken (the quartic fits of
+    # both surfaces then carry the tilt)
+    if abs(n[k]) < math.cos(math.radians(5.0)):
         raise ConfigError(
             f"method = \"multiscale\": the contact normal {np.round(n, 6).tolist()} at "
             f"{np.round(x0, 6).tolist()} does not lie along a coordinate axis (the supports' "
@@ -268,6 +272,11 @@ def _supports(body, conditions) -> tuple[np.ndarray, np.ndarray]:
                     U[c] = v
                 elif isinstance(bc, Force):
                     F[c] = v if np.isnan(F[c]) else F[c] + v
+                if not (np.isnan(U[c]) or np.isnan(F[c])):
+                    raise ConfigError(f"{body.name}: component {'xyz'[c]} is both held and "
+                                      "force controlled (on different regions): method = "
+                                      "\"multiscale\" takes one rigid support per component; "
+                                      "use method = \"full\"", location=where)
     return U, F
 
 
@@ -310,15 +319,29 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
                   solver: SolverOptions | None = None) -> GridResult:
     """Solve ``problem`` (a two-body :class:`~bemcontact.contact.ContactProblem`)
     through its load ``steps`` (default: one step to the bodies' own
-    conditions) on the contact grid (see the module docstring)."""
+    conditions) on the contact grid (see the module docstring).  A
+    geometry the fits or the sizing cannot take is a one-line ConfigError."""
+    try:
+        return _solve_on_grid(problem, steps, options, solver)
+    except BemcontactError:
+        raise
+    except (np.linalg.LinAlgError, scipy.spatial.QhullError, ValueError) as exc:
+        raise ConfigError(f"method = \"multiscale\": the contact's geometry could not be "
+                          f"fitted ({type(exc).__name__}: {exc}); use method = \"full\"",
+                          location={"field": "contact.method"}) from exc
+
+
+def _solve_on_grid(problem, steps, options, solver) -> GridResult:
     t0 = time.perf_counter()
-    opt = options or GridOptions(grid_size=getattr(problem.pairs[0], "grid_size", None))
+    opt = options or GridOptions(grid_size=getattr(problem.pairs[-1], "grid_size", None))
     solver = solver or SolverOptions()
     bodies = list(problem.bodies)
     if len(bodies) != 2 or len(problem.pairs) != 1:
         raise ConfigError("method = \"multiscale\" solves two bodies in one contact pair; use "
                           "method = \"full\" for an assembly", location={"field": "contact.method"})
     pair = problem.pairs[0]
+    if pair.penalty is not None:
+        solver = dataclasses.replace(solver, penalty=pair.penalty)
     b1, b2 = (bodies[a] for a in problem.links[0])
     s1, s2 = pair.surface1, pair.surface2
     for b in (b1, b2):
@@ -327,8 +350,9 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
                               "model gives its correction)", location={"body": b.name})
     steps = list(steps) if steps else [LoadStep()]
     states = checked_states([b1, b2], [(s1,), (s2,)], steps)
-    for b, c in zip((b1, b2), states[0]):
-        _held(b, c)
+    for state in states:
+        for b, c in zip((b1, b2), state):
+            _held(b, c)
     origin, axes = contact_plane(b1, s1, b2, s2)
     # the closest nodes need not be the closest points of the surfaces (a
     # sphere's apex above a coarse block's node): the gap of the fitted
@@ -413,26 +437,45 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
             continue
         xy = g.centres[closed][:, :2]
         half = np.abs(xy).max(axis=0) + 0.5 * h
+        if half.min() < 8.0 * h:  # too few cells across: size the pass on it again
+            a_est = float(half.max()) * 1.1
+            half = None
+            continue
         break
     if half is None:
         raise ConfigError("method = \"multiscale\": no contact zone found on the grid (the "
                           "bodies do not touch under these loads?)",
                           location={"field": "contact.method"})
     cell = opt.grid_size or float(half.min()) / opt.cells_per_radius
-    if opt.margin * float(np.hypot(*half)) > fit_radius:
-        fit_radius_needed = opt.margin * float(np.hypot(*half))
-        c1, _, e1 = surface_fit(b1, s1, origin, axes, fit_radius_needed)
-        c2, _, e2 = surface_fit(b2, s2, origin, axes, fit_radius_needed)
-    nx = scipy.fft.next_fast_len(int(math.ceil(2.0 * opt.margin * half[0] / cell)))
-    ny = scipy.fft.next_fast_len(int(math.ceil(2.0 * opt.margin * half[1] / cell)))
-    grid = Grid.centred(nx, ny, cell, cell)
-    t1 = time.perf_counter()
-    k1 = (-2.0 * c1[3], -2.0 * c1[5])  # body 1's local depth is -ζ1
-    k2 = (2.0 * c2[3], 2.0 * c2[5])
-    corrections = [BodyCorrection(b1, 1, origin, axes, grid, opt.anchors, curvature=k1),
-                   BodyCorrection(b2, 2, origin, axes, grid, opt.anchors, curvature=k2)]
-    t2 = time.perf_counter()
-    history, records, _, _ = run(grid, corrections, report=True, coarse=(g, coarse))
+    margin = opt.margin
+    t1 = t2 = time.perf_counter()
+    for attempt in range(3):
+        if margin * float(np.hypot(*half)) > fit_radius:
+            fit_radius_needed = margin * float(np.hypot(*half))
+            c1, _, e1 = surface_fit(b1, s1, origin, axes, fit_radius_needed)
+            c2, _, e2 = surface_fit(b2, s2, origin, axes, fit_radius_needed)
+        nx = scipy.fft.next_fast_len(int(math.ceil(2.0 * margin * half[0] / cell)))
+        ny = scipy.fft.next_fast_len(int(math.ceil(2.0 * margin * half[1] / cell)))
+        grid = Grid.centred(nx, ny, cell, cell)
+        t1 = time.perf_counter()
+        k1 = (-2.0 * c1[3], -2.0 * c1[5])  # body 1's local depth is -ζ1
+        k2 = (2.0 * c2[3], 2.0 * c2[5])
+        corrections = [BodyCorrection(b1, 1, origin, axes, grid, opt.anchors, curvature=k1),
+                       BodyCorrection(b2, 2, origin, axes, grid, opt.anchors, curvature=k2)]
+        t2 = time.perf_counter()
+        history, records, _, _ = run(grid, corrections, report=True, coarse=(g, coarse))
+        # the contact must stay inside the grid: a closed cell on its border
+        # means the sizing pass fell short (a grid 1.5 times wider again)
+        edge = np.zeros((nx, ny), dtype=bool)
+        edge[[0, -1], :] = edge[:, [0, -1]] = True
+        if not any(np.any((st.state != OPEN).reshape(nx, ny) & edge) for st in history):
+            break
+        if attempt == 2:
+            raise ConfigError("method = \"multiscale\": the contact reaches the edge of the "
+                              f"contact grid ({nx} x {ny} cells of {cell:.3g}) after two "
+                              "enlargements; use method = \"full\"",
+                              location={"field": "contact.method"})
+        margin *= 1.5
     t3 = time.perf_counter()
     return GridResult((b1.name, b2.name), grid, origin, axes, gap_on(grid), history, records,
                       corrections, {"sizing": t1 - t0, "corrections": t2 - t1,
@@ -465,8 +508,11 @@ def applicability(result: GridResult, problem) -> dict:
         own = d.region == c.body.mesh.region_names.index(region)
         X = (d.points - result.origin) @ result.axes.T
         # the contact surface's edge: its nodes' hull in the plane
-        hull = scipy.spatial.ConvexHull(X[own, :2])
-        edge = min(edge, float(np.min(-hull.equations[:, 2])))
+        try:
+            hull = scipy.spatial.ConvexHull(X[own, :2])
+            edge = min(edge, float(np.min(-hull.equations[:, 2])))
+        except (scipy.spatial.QhullError, ValueError):  # a degenerate surface: no edge known
+            edge = 0.0
         thick = min(thick, float(np.ptp(X[:, 2])))
     checks["edge_over_a"] = (edge / a, LIMITS["edge_over_a"], edge / a >= LIMITS["edge_over_a"])
     checks["thickness_over_a"] = (thick / a, LIMITS["thickness_over_a"],

@@ -68,14 +68,13 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_
     (fine size 0.5 mm ≈ 0.9a: 778 and 403 nodes), the sphere's curved face
     with its near field.  Measured: the half-spaces alone carry 4.1 % less
     force (the finite bodies are stiffer than two half-spaces to their
-    supports); corrected, P is within +0.56 % of the full path and the
+    supports); corrected, P is within +0.58 % of the full path and the
     pressure within 0.96 % of p0 (rms inside 0.9a; the full path's nodal
     against the grid's cell values), the correction's own estimate 2e-4.
     Asserted: the uncorrected force 3.5-5 % low (the test must see the
     finite bodies), the corrected one within 1 %, the pressure within 1.5 %
-    of p0.  The remaining +0.56 % is the curved face's near field treated to
-    first order (it moves with the split between the near kernel and the
-    coarse data: docs/theory.md)."""
+    of p0.  The remaining +0.58 % is the curved face's near field treated to
+    first order (docs/decisions.md)."""
     a_over_h = 8.0
     a_guess = math.sqrt(10.0 * 0.03)
     P_full, r, p, h = full_sphere_on_block

@@ -153,3 +153,25 @@ def test_hertz_subsurface_stresses_from_the_grid_solution():
         bounds=(0.2, 0.8), method="bounded", options={"xatol": 1e-5})
     assert -found.fun == pytest.approx(0.310021, rel=0.02)
     assert abs(found.x - 0.480864) < 0.03
+
+
+def test_displacement_control_reaches_the_state_force_control_reaches():
+    """The same history driven by the tangential force (Q = 0.3 μP in 2
+    increments after P) and by the rigid shift that force produced, increment
+    by increment: the same forces, to 1e-8 (the law's history is taken at the
+    converged state before the new shift is applied, as on the full path; taken
+    after it, the stick cells would keep their traction and the shift would
+    carry no force)."""
+    Q = 0.3 * MU * P
+    a = sphere(8.0)
+    a.solve_increment([0.0, 0.0, P], [0.0, 0.0, 0.0])
+    shifts = []
+    for t in (0.5, 1.0):
+        assert a.solve_increment([t * Q, 0.0, P], [0.0, 0.0, 0.0]).converged
+        shifts.append(a.d.copy())
+    b = sphere(8.0)
+    b.solve_increment([0.0, 0.0, P], [0.0, 0.0, 0.0])
+    for d in shifts:
+        assert b.solve_increment([math.nan, 0.0, P], d).converged
+    assert b.force()[0] == pytest.approx(Q, rel=1e-8)
+    assert np.abs(b.p - a.p).max() < 1e-8 * HZ.peak_pressure

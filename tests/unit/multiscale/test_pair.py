@@ -35,7 +35,7 @@ def test_the_contact_plane_and_the_shapes_come_from_the_coarse_meshes(full_spher
     0.1 mm; the quartic fits of the nodes locate it to measured 1.4e-4), the
     normal z, the sphere's curvature 1/R within 0.5 % (measured 0.07 %), the
     block's zero to 1e-12; the force within 1 % of the full path at a/h = 8
-    (measured +0.36 %: docs/validation.md, the curved face's near field), the
+    (measured +0.45 %: docs/validation.md, the curved face's near field), the
     checks of the contact conditions met."""
     res = solve_on_grid(coarse_sphere_on_block())
     assert np.linalg.norm(res.origin) < 2e-4
