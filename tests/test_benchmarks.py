@@ -124,7 +124,9 @@ def test_multiscale_mindlin_benchmark_smoke():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     row = mod.one(8.0)
-    # the whole run on the coarse bodies: docs/benchmarks.md's measures at a/h = 8
+    # the whole run on the coarse bodies at a/h = 8, measured: p0 -0.45 %, q L2
+    # 2.4 %, stick radius +3.3 % (the grid's first-order cell error: +1.6 % at
+    # a/h = 12, docs/benchmarks.md), delta_t -1.4 %; bounds about 1.5x those
     assert row["applies"] and row["estimate"] < 1e-2
-    assert abs(row["p0_err"]) < 0.01 and abs(row["c_err"]) < 0.03 and abs(row["dt_err"]) < 0.02
-    assert row["q_l2"] < 0.08 and row["cpu_s"] > 0
+    assert abs(row["p0_err"]) < 0.007 and abs(row["c_err"]) < 0.05 and abs(row["dt_err"]) < 0.02
+    assert row["q_l2"] < 0.035 and row["cpu_s"] > 0
