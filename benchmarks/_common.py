@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import os
 import platform
+import statistics
 import subprocess
 import sys
 
@@ -17,6 +18,19 @@ def run_one(script: str, size: int) -> dict:
         [sys.executable, script, "--one", str(size)], capture_output=True, text=True, check=True
     ).stdout
     return json.loads(out.strip().splitlines()[-1])
+
+
+def run_median(script: str, size, repeat: int) -> dict:
+    """``run_one`` ``repeat`` times: the first run's row with the median
+    ``cpu_s`` and ``wall_s`` (each run's in ``<key>_runs``) and the largest
+    ``peak_rss_mb``."""
+    rows = [run_one(script, size) for _ in range(repeat)]
+    row = dict(rows[0])
+    for key in ("cpu_s", "wall_s"):
+        row[key] = statistics.median(x[key] for x in rows)
+        row[key + "_runs"] = [x[key] for x in rows]
+    row["peak_rss_mb"] = max(x["peak_rss_mb"] for x in rows)
+    return row
 
 
 def machine_line(extra: str = "") -> str:

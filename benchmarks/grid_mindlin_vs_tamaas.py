@@ -28,7 +28,6 @@ import argparse
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 import time
@@ -37,7 +36,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _common import machine_line  # noqa: E402
+from _common import machine_line, run_median  # noqa: E402
 
 E, NU, R, MU, APPROACH, RATIO, INCREMENTS = 210000.0, 0.3, 10.0, 0.3, 0.03, 0.5, 4
 
@@ -87,22 +86,6 @@ def one(a_over_h: float) -> dict:
     }
 
 
-def measured(a_over_h: float, repeat: int) -> dict:
-    """``one`` in ``repeat`` fresh processes: the first run's row with the
-    median times and the largest peak RSS."""
-    rows = []
-    for _ in range(repeat):
-        out = subprocess.run([sys.executable, __file__, "--one", str(a_over_h)],
-                             capture_output=True, text=True, check=True).stdout
-        rows.append(json.loads(out.strip().splitlines()[-1]))
-    row = dict(rows[0])
-    for key in ("cpu_s", "wall_s"):
-        row[key] = statistics.median(x[key] for x in rows)
-        row[key + "_runs"] = [x[key] for x in rows]
-    row["peak_rss_mb"] = max(x["peak_rss_mb"] for x in rows)
-    return row
-
-
 def tamaas_row(a_over_h: float) -> dict:
     import _tamaas_side as tamaas_side
 
@@ -142,7 +125,7 @@ def main(argv=None) -> int:
             f"{'dt err':>8s} {'CPU s':>8s} {'wall s':>8s} {'MB':>7s}  iterations")
     print(head)
     for aoh in args.a_over_h:
-        row = measured(aoh, args.repeat)
+        row = run_median(__file__, aoh, args.repeat)
         rows.append(row)
         print(f"{'bemcontact-grid':16s} {aoh:5.0f} {row['cells']:7d} {row['p0_err']:8.2%} "
               f"{row['q_l2']:7.2%} {row['c_err']:7.2%} {row['dt_err']:8.3%} {row['cpu_s']:8.2f} "

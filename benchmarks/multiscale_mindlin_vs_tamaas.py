@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 import time
@@ -38,7 +37,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _common import machine_line  # noqa: E402
+from _common import machine_line, run_median  # noqa: E402
 
 MU, RATIO, SMALL, APPROACH = 0.3, 0.5, 0.02, 0.03
 
@@ -101,20 +100,6 @@ def one(a_over_h: float) -> dict:
     }
 
 
-def measured(a_over_h: float, repeat: int) -> dict:
-    rows = []
-    for _ in range(repeat):
-        out = subprocess.run([sys.executable, __file__, "--one", str(a_over_h)],
-                             capture_output=True, text=True, check=True).stdout
-        rows.append(json.loads(out.strip().splitlines()[-1]))
-    row = dict(rows[0])
-    for key in ("cpu_s", "wall_s"):
-        row[key] = statistics.median(x[key] for x in rows)
-        row[key + "_runs"] = [x[key] for x in rows]
-    row["peak_rss_mb"] = max(x["peak_rss_mb"] for x in rows)
-    return row
-
-
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--a-over-h", type=float, nargs="+", default=[12.0, 25.0, 50.0, 100.0])
@@ -144,7 +129,7 @@ def main(argv=None) -> int:
           f"{'c err':>7s} {'dt err':>8s} {'CPU s':>8s} {'wall s':>8s} {'MB':>7s}")
     rows = []
     for aoh in args.a_over_h:
-        row = measured(aoh, args.repeat)
+        row = run_median(__file__, aoh, args.repeat)
         rows.append(row)
         print(f"{'bemcontact-multiscale':22s} {aoh:5.0f} {row['cells']:7d} {row['p0_err']:8.2%} "
               f"{row['a_err']:7.2%} {row['q_l2']:7.2%} {row['c_err']:7.2%} "

@@ -64,6 +64,7 @@ class PairOperator:
             raise ConfigError("PairOperator: the half-space symbol is not positive")
         w = np.maximum(np.abs(w), 1e-12 * w.max())
         self._inverse = np.einsum("...ij,...j,...kj->...ik", v, 1.0 / w, np.conj(v))
+        self._inverse_modes = np.ascontiguousarray(np.moveaxis(self._inverse, (2, 3), (0, 1)))
 
     @property
     def n(self) -> int:
@@ -88,12 +89,19 @@ class PairOperator:
 
     def precondition(self, u: np.ndarray) -> np.ndarray:
         """(n, 3) -> (n, 3): the circulant approximate inverse of C_hs."""
-        nx, ny = self.grid.shape
-        s = (2 * nx, 2 * ny)
-        f = scipy.fft.rfft2(np.moveaxis(u.reshape(nx, ny, 3), -1, 0), s=s, axes=(1, 2))
-        g = np.einsum("xyij,jxy->ixy", self._inverse, f)
-        out = scipy.fft.irfft2(g, s=s, axes=(1, 2))[:, :nx, :ny]
-        return np.moveaxis(out, 0, -1).reshape(-1, 3)
+        return padded_product(self.grid, self._inverse_modes, u)
+
+
+def padded_product(grid: Grid, modes: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """(n, 3) -> (n, 3): the field ``u`` on ``grid``, zero-padded to the
+    (2nx) × (2ny) torus, multiplied per Fourier mode by the 3 × 3 blocks
+    ``modes`` (3, 3, 2nx, ny + 1) and cropped back to the grid."""
+    nx, ny = grid.shape
+    s = (2 * nx, 2 * ny)
+    f = scipy.fft.rfft2(np.moveaxis(u.reshape(nx, ny, 3), -1, 0), s=s, axes=(1, 2))
+    g = np.einsum("ijxy,jxy->ixy", modes, f)
+    out = scipy.fft.irfft2(g, s=s, axes=(1, 2))[:, :nx, :ny]
+    return np.moveaxis(out, 0, -1).reshape(-1, 3)
 
 
 class ToeplitzOperator:
@@ -115,12 +123,7 @@ class ToeplitzOperator:
 
     def matvec(self, t: np.ndarray) -> np.ndarray:
         """(n, 3) -> (n, 3)."""
-        nx, ny = self.grid.shape
-        s = (2 * nx, 2 * ny)
-        f = scipy.fft.rfft2(np.moveaxis(t.reshape(nx, ny, 3), -1, 0), s=s, axes=(1, 2))
-        g = np.einsum("ijxy,jxy->ixy", self._kernels, f)
-        out = scipy.fft.irfft2(g, s=s, axes=(1, 2))[:, :nx, :ny]
-        return np.moveaxis(out, 0, -1).reshape(-1, 3)
+        return padded_product(self.grid, self._kernels, t)
 
 
-__all__ = ["PairOperator", "ToeplitzOperator"]
+__all__ = ["PairOperator", "ToeplitzOperator", "padded_product"]
