@@ -25,6 +25,13 @@ from .contact import (
 )
 from .kelvin import kelvin_displacement, kelvin_stress, kelvin_traction
 from .lame import lame_sphere_radial_displacement, lame_sphere_stress
+from .stress import (
+    HertzAxisStresses,
+    HertzSurfaceStresses,
+    hamilton_sliding_sphere_stresses,
+    hertz_axis_stresses,
+    hertz_surface_stresses,
+)
 
 __all__ = [
     "Hertz",
@@ -47,4 +54,9 @@ __all__ = [
     "kelvin_traction",
     "lame_sphere_radial_displacement",
     "lame_sphere_stress",
+    "HertzAxisStresses",
+    "HertzSurfaceStresses",
+    "hamilton_sliding_sphere_stresses",
+    "hertz_axis_stresses",
+    "hertz_surface_stresses",
 ]
