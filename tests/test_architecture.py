@@ -24,6 +24,7 @@ LAYERS = [
     {"study"},
     {"problemfile"},
     {"validation", "output", "bench"},
+    {"stresses"},
     {"multiscale"},
     {"contact"},
     {"bem"},

@@ -19,6 +19,7 @@ import pytest
 
 from bemcontact.validation import cases
 from bemcontact.validation.reference import contact as ref
+from bemcontact.validation.reference import stress as stress_ref
 
 pytestmark = pytest.mark.validation
 
@@ -373,3 +374,43 @@ def test_two_spheres_close_from_an_initial_gap_and_match_hertz():
     assert abs(e.contact_radius) <= 0.03 and abs(e.peak_pressure) <= 0.03
     assert e.profile_l2 <= 0.05
     assert res.frame.pressure.min() >= -1e-9 * res.frame.pressure.max()
+
+
+def test_hertz_stresses_below_the_contact_match_johnson_and_converge(frictionless):
+    """Stresses inside the block on the axis (Somigliana's identity on the
+    boundary solution), against Johnson's closed forms for a and p0 of
+    Hertz at the computed force, 0.05a <= z <= 3a: σ_z and σ_r within 2 % of
+    p0 on every mesh (the issue's tier; measured 0.60 / 0.35 / 0.26 % and
+    0.90 / 0.56 / 0.32 % at h = 0.1 / 0.07 / 0.05), falling on every
+    refinement at fitted rates >= 1 (measured 1.2 and 1.5: the boundary
+    solution's own error); the largest τ1 = |σ_z − σ_r|/2 on the axis within
+    2 % of Johnson's 0.310 p0 and its depth within 3 % of a of 0.481a
+    (measured 0.3087 p0 at 0.478a on the coarsest mesh, 0.3100 at 0.481a
+    on the finest)."""
+    z = np.linspace(0.05, 3.0, 60)
+    errors = []
+    for h, res, _ in frictionless:
+        hz = _hertz(res.normal_force)
+        a, p0 = hz.contact_radius, hz.peak_pressure
+        exact = stress_ref.hertz_axis_stresses(z * a, a, p0, 0.3)
+        s = res.stresses("block", np.column_stack([0 * z, 0 * z, -z * a]))
+        ez = np.abs(s[:, 2] - exact.sigma_z).max() / p0
+        er = max(np.abs(s[:, k] - exact.sigma_r).max() for k in (0, 1)) / p0
+        assert ez <= 0.02 and er <= 0.02, (h, ez, er)
+        # τ1 near its maximum: a parabola through the largest sample and its neighbours
+        zz = np.linspace(0.3, 0.7, 21)
+        t = res.stresses("block", np.column_stack([0 * zz, 0 * zz, -zz * a]))
+        tau = 0.5 * np.abs(t[:, 2] - 0.5 * (t[:, 0] + t[:, 1])) / p0
+        k = int(np.argmax(tau))
+        c = np.polyfit(zz[k - 1:k + 2], tau[k - 1:k + 2], 2)
+        z_max = -c[1] / (2.0 * c[0])
+        assert abs(np.polyval(c, z_max) - exact.max_shear / p0) <= 0.02 * exact.max_shear / p0
+        assert abs(z_max - exact.max_shear_depth / a) <= 0.03
+        errors.append((ez, er))
+    hs = [h for h, _, _ in frictionless]
+    for k, name in enumerate(("sigma_z", "sigma_r")):
+        err = [e[k] for e in errors]
+        assert all(b < a for a, b in zip(err, err[1:])), (name, err)
+        rate = cases.fitted_rate(hs, err)
+        print(f"{name}: errors {['%.4f' % v for v in err]} fitted rate {rate:.2f}")
+        assert rate >= 1.0, (name, rate)

@@ -50,6 +50,8 @@ from ..settings import Key, check_settings, setting
 from .correction import BodyCorrection
 from .interface import GridInterface
 from .operator import PairOperator
+from .stress import grid_stresses
+from .surface import quartic_terms
 
 #: Nodes of each contact surface the quartic fit uses (the nearest to the
 #: contact point, at least): 15 coefficients, so the fit is overdetermined.
@@ -111,6 +113,15 @@ class GridResult:
     #: how the method was chosen: ``requested``, ``used``, ``reason`` and the
     #: :func:`applicability` checks (set by the caller that chose it)
     method: dict = field(default_factory=dict)
+    #: each body's contact surface ζ(ξ, η) in the frame: quartic coefficients
+    #: (:func:`quartic_terms`), body 1's then body 2's
+    surfaces: tuple = ()
+
+    def stresses(self, body: str, points, step: int = -1) -> np.ndarray:
+        """The stress tensor (n, 6), global components, tension positive, at
+        ``points`` (n, 3) inside ``body`` at the end of load step ``step``
+        (:func:`~bemcontact.multiscale.stress.grid_stresses`)."""
+        return grid_stresses(self, body, points, step)
 
     @property
     def converged(self) -> bool:
@@ -205,7 +216,7 @@ def surface_fit(body, region: str, origin, axes, radius: float | None = None):
     if take.size < 20:
         raise ConfigError(f"{body.name}: the contact surface {region!r} has {take.size} nodes "
                           "near the contact point: too few to fit its shape (at least 20)")
-    V = _monomials(P[take, 0], P[take, 1])
+    V = quartic_terms(P[take, 0], P[take, 1])
     coef, *_ = np.linalg.lstsq(V, P[take, 2], rcond=None)
     resid = float(np.sqrt(np.mean((V @ coef - P[take, 2]) ** 2)))
     return coef, float(r[take].max()), resid
@@ -219,7 +230,7 @@ def _spacing(body, region: str, origin) -> float:
 
 
 def _poly(coef, xy) -> float:
-    return float(_monomials(np.array([xy[0]]), np.array([xy[1]]))[0] @ coef)
+    return float(quartic_terms(np.array([xy[0]]), np.array([xy[1]]))[0] @ coef)
 
 
 def _gap_minimum(coef, radius: float) -> np.ndarray:
@@ -228,10 +239,6 @@ def _gap_minimum(coef, radius: float) -> np.ndarray:
     res = scipy.optimize.minimize(lambda v: _poly(coef, v), np.zeros(2), method="L-BFGS-B",
                                   bounds=[(-radius, radius)] * 2)
     return np.asarray(res.x, dtype=float)
-
-
-def _monomials(x, y) -> np.ndarray:
-    return np.stack([x**i * y**(d - i) for d in range(5) for i in range(d, -1, -1)], axis=-1)
 
 
 def _supports(body, conditions) -> tuple[np.ndarray, np.ndarray]:
@@ -376,7 +383,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
 
     def gap_on(grid):
         c = grid.centres
-        V = _monomials(c[:, 0], c[:, 1])
+        V = quartic_terms(c[:, 0], c[:, 1])
         return V @ c2 - V @ c1
 
     def run(grid, corrections, report, coarse=None):
@@ -480,7 +487,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
     return GridResult((b1.name, b2.name), grid, origin, axes, gap_on(grid), history, records,
                       corrections, {"sizing": t1 - t0, "corrections": t2 - t1,
                                     "solve": t3 - t2, "total": t3 - t0,
-                                    "surface_fit_rms": [e1, e2]})
+                                    "surface_fit_rms": [e1, e2]}, surfaces=(c1, c2))
 
 
 #: The bounds of :func:`applicability`: the corrections' error estimate, the

@@ -28,8 +28,9 @@ from ..errors import ConfigError
 from ..multiscale.pair import GridResult
 from .rundir import RunDirectory
 from .vtu import write_vtu
-from .write import (OutputOptions, figures_by_default, require_matplotlib, summary, write_csv,
-                    write_json)
+from .stresses import file_names, stress_fields, stress_summary, write_stress_files
+from .tables import write_csv
+from .write import OutputOptions, figures_by_default, require_matplotlib, summary, write_json
 
 #: Columns of ``grid.csv``.
 GRID_COLUMNS = ("x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y",
@@ -64,10 +65,15 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
     files += ["grid.csv"] if opt.csv else []
     files += ["grid_tractions.png"] if opt.figures else []
     f = _fields(result)
+    fields, skipped = stress_fields(result, opt)  # before anything is written: may refuse
+    files += file_names(fields, opt)
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
         data = {**result.summary(), "names": list(result.names)}
+        if fields or skipped:
+            data["stresses"] = stress_summary(fields, skipped)
         write_json(tmp / "summary.json", summary(data, problem_echo))
+        write_stress_files(tmp, fields, opt, (problem_echo or {}).get("units"))
         if opt.csv:
             table = np.column_stack([result.points, f["pressure"], f["tangential_traction"],
                                      f["gap"], f["slip"], f["state"].astype(float)])

@@ -38,7 +38,6 @@ directory, the current directory, a root or an empty path are refused unless
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 import os
@@ -54,8 +53,11 @@ import numpy as np
 from ..contact.results import ContactResult
 from ..errors import ConfigError, OptionalDependencyWarning
 from ..settings import Key, check_settings, setting
+from ..stresses.probes import StressRequest
 from .layout import Layout, check_files, pair_stems, result_layout
 from .rundir import RunDirectory
+from .stresses import file_names, stress_fields, stress_summary, write_stress_files
+from .tables import write_csv
 from .vtu import frame_cells, write_pvd, write_state_vtus
 
 #: Columns of ``<body>_interface.csv``.
@@ -97,9 +99,19 @@ class OutputOptions:
     steps: str = setting(Key(
         "steps", "string", "`all`: VTU files for every load step and PVD collections; "
         "`last`: the final state only", default="all", choices=("all", "last")))
+    default_stresses: bool = setting(Key(
+        "default_stresses", "boolean", "without `[[output.stresses]]`: the stresses on a depth "
+        "profile under the peak pressure and on the two planes through it, in each body the "
+        "contact is small against", default=False))
+    #: the ``[[output.stresses]]`` requests (:class:`~bemcontact.stresses.StressRequest`)
+    stresses: tuple = ()
 
     def __post_init__(self) -> None:
         check_settings(self)
+        if not isinstance(self.stresses, tuple) or not all(
+                isinstance(r, StressRequest) for r in self.stresses):
+            raise ConfigError(f"OutputOptions.stresses must be a tuple of StressRequest, got "
+                              f"{self.stresses!r}")
 
 
 def summary(
@@ -262,11 +274,17 @@ def write_results(
         files += [f"{n}.csv" for n in names.csv()]
     if opt.figures:
         files += [f"{p.figure}frame_tractions.png" for p in names.pairs]
+    fields, skipped = stress_fields(result, opt)  # before anything is written: may refuse
+    files += file_names(fields, opt)
     history = list(result.history) or [result]
     check_files(files, len(history) if opt.vtu and opt.steps == "all" else 0)
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
-        _write_json(tmp / "summary.json", summary(result, problem_echo))
+        data = summary(result, problem_echo)
+        if fields or skipped:
+            data["stresses"] = _json_ready(stress_summary(fields, skipped))
+        _write_json(tmp / "summary.json", data)
+        write_stress_files(tmp, fields, opt, (problem_echo or {}).get("units"))
         if opt.vtu:
             write_state_vtus(tmp, result, "", names)
             if opt.steps == "all":
@@ -421,22 +439,6 @@ def _write_json(path: pathlib.Path, data: Mapping[str, Any]) -> None:
     with open(path, "w") as f:
         json.dump(data, f, indent=2, allow_nan=False)
         f.write("\n")
-
-
-def _fmt(v: Any) -> str:
-    return format(float(v), ".17g")
-
-
-def write_csv(
-    path: pathlib.Path, columns: tuple[str, ...], table: np.ndarray, int_cols: tuple = ()
-) -> None:
-    with open(path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(columns)
-        for row in table:
-            w.writerow(
-                [str(int(v)) if c in int_cols else _fmt(v) for c, v in zip(columns, row)]
-            )
 
 
 def _write_interface_csv(path: pathlib.Path, iface) -> None:

@@ -115,10 +115,11 @@ class Checker:
         if key.type == "strings":
             self.array(where, value, key.length)
             return [self.string(f"{where}[{k}]", v) for k, v in enumerate(value)]
-        if key.type in ("number-or-vector", "integer-or-vector"):
-            integer = key.type == "integer-or-vector"
+        if key.type in ("number-or-vector", "integer-or-vector", "number-or-pair",
+                        "integer-or-pair"):
+            integer = key.type.startswith("integer")
             if isinstance(value, list):
-                self.array(where, value, 3)
+                self.array(where, value, 2 if key.type.endswith("pair") else 3)
                 return [
                     self.number(f"{where}[{a}]", v, integer=integer, lo=key.lo,
                                 lo_open=key.lo_open)

@@ -68,6 +68,7 @@ from .checks import FREE, Checker, a_type, one_line, suggest
 from .method import on_grid
 from .pairs import read_pairs
 from .sizes import check_body_size, check_generated_size
+from .stresses import stress_requests
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
 NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
@@ -285,7 +286,7 @@ class _Reader(Checker):
             self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
         ]
         specs = read_pairs(self, content["contact"], names, meshes)
-        output = self.output(content.get("output", {}))
+        output = self.output(content.get("output", {}), names, meshes)
         # each body's contact surfaces, with the field naming each
         surfaces: list[dict[str, str]] = [{} for _ in names]
         for sp in specs:
@@ -360,7 +361,7 @@ class _Reader(Checker):
         key = schema.ROOT.key("units")
         return self.fields("units", self.table("units", value, key), key)
 
-    def output(self, value: Any) -> OutputOptions:
+    def output(self, value: Any, names: list[str], meshes: list) -> OutputOptions:
         """The ``[output]`` table.  Figures need matplotlib: asked for with
         ``figures = true`` they are refused here without it (before the solve);
         on by default they are skipped with an OptionalDependencyWarning."""
@@ -373,7 +374,8 @@ class _Reader(Checker):
                           f"{PLOT_INSTALL}, or set figures = false")
             f["figures"] = False
             self.figures_skipped = True  # said once the whole file is read
-        return OutputOptions(**f)
+        requests = stress_requests(self, t.get("stresses", []), names, meshes)
+        return OutputOptions(**f, stresses=requests)
 
     def solver(self, value: Any) -> SolverOptions:
         key = schema.SOLVER

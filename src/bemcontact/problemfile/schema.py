@@ -17,7 +17,8 @@ Types (:attr:`Key.type`):
 ``string``, ``boolean``, ``number`` (int or float, finite), ``integer``,
 ``vector`` (3 numbers), ``components`` (3 entries, each a number or
 ``"free"``), ``number-or-vector`` and ``integer-or-vector`` (one value for all
-three directions or 3 values), ``strings`` (an array of strings of fixed
+three directions or 3 values), ``number-or-pair`` and ``integer-or-pair`` (one
+value for both in-plane directions or 2 values), ``strings`` (an array of strings of fixed
 length), ``table`` (fixed keys: :attr:`Key.keys`), ``tables`` (an array of
 such tables, ``[[name]]``), ``map`` (a table whose keys are names chosen by the
 user — regions, bodies — each holding :attr:`Key.entry`).
@@ -32,6 +33,7 @@ from ..contact.history import LoadStep
 from ..linalg.options import HMatrixOptions, LinearSolverOptions
 from ..mesh.element import ELEMENT_TYPES
 from ..output.write import OutputOptions
+from ..stresses.probes import PROBE_KEYS
 from ..settings import LARGEST, NO_DEFAULT, SMALLEST, Key, keys_of
 
 
@@ -282,6 +284,24 @@ OUTPUT = Key(
     "is always the final state.",
     keys=(
         *keys_of(OutputOptions),
+        Key("stresses", "tables", "stresses inside a body on a line, a plane or a box of "
+            "points, as `[[output.stresses]]` sections", default=(), section="output.stresses",
+            notes="Each section names a `body` and exactly one of `line`, `plane`, `box`; its "
+            "files are `stresses_<body>_<label>.csv` (columns x, y, z, sxx, syy, szz, sxy, syz, "
+            "sxz, von_mises, tresca; stress units of the problem, tension positive, "
+            "compression negative; Tresca is the maximum shear stress (σ1 − σ3)/2), `.vtu` "
+            "and `.png`, and `summary.json` gets the maximum von Mises and Tresca stresses "
+            "and their points, per body and per load step, under `stresses`. Points must lie "
+            "inside the body. Without sections, `default_stresses` gives a depth profile "
+            "under the peak pressure (label `profile`) and the two planes through it "
+            "(`section1` along the tangential force, `section2` across it), from 0.02 to 3 "
+            "contact radii deep, in each body at least 8 contact radii across.",
+            keys=(
+                Key("body", "string", "the body the points lie in", True),
+                Key("label", "string", "names the files: letters, digits, `_`, `-`",
+                    default_text="the section's number, 1, 2, ..."),
+                *PROBE_KEYS.values(),
+            )),
     ),
 )
 
@@ -331,6 +351,8 @@ def _type_text(k: Key) -> str:
         "vector": "[x, y, z] numbers",
         "components": "[x, y, z], each a number or `\"free\"`",
         "number-or-vector": "number or [x, y, z]",
+        "number-or-pair": "number or [u, v]",
+        "integer-or-pair": "integer or [u, v]",
         "integer-or-vector": "integer or [x, y, z]",
         "strings": f"{k.length} strings",
         "table": "table",
@@ -363,7 +385,7 @@ def _default_text(k: Key) -> str:
         return f"`{d:.6g}`"
     if isinstance(d, dict):
         return "empty"
-    if isinstance(d, list) and not d:
+    if isinstance(d, (list, tuple)) and not d:
         return "none"
     return f"`{d}`"
 

@@ -1,0 +1,77 @@
+"""Stresses inside the bodies of a contact solved on the grid.
+
+Each body is the half-space the grid solve takes it for: the stress at a
+point is Love's closed-form field of the grid's piecewise-constant tractions
+(:class:`~bemcontact.halfspace.HalfSpaceStress`), at the point's position in
+the contact frame (ξ, η) and its depth below the body's own contact surface
+(the quartic fitted to its nodes, ``GridResult.surfaces``), with the body's
+Poisson ratio.  Body 2 (ζ > 0 side) carries the tractions p; body 1 carries
+−p: it is the half-space mirrored in ζ, so its stress is the module's field of
+(−p_ξ, −p_η, p_ζ) with the σ_ηζ and σ_ξζ components negated.  The frame
+components are then turned to global ones, σ = Aᵀ σ_frame A (A: the frame's
+axes as rows).
+
+The body's correction (its finite size) is not in this field: near the
+contact, where contact stresses matter, it is smooth and small (the
+difference it makes to the pressure is measured in docs/validation.md); far
+from the contact, in the body's bulk, the half-space field is not the body's.
+Points are refused when they lie above the body's contact surface."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..halfspace import HalfSpaceStress, stress_tensors
+from .surface import quartic_terms
+
+
+def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
+    """(body index, (n, 3) = (ξ, η, depth below the body's contact surface))
+    of global ``points`` (n, 3); depth > 0 inside the body."""
+    if body not in result.names:
+        raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
+                          location={"body": body})
+    b = result.names.index(body)
+    try:
+        X = np.asarray(points, dtype=float)
+    except (TypeError, ValueError):
+        raise ConfigError("points must be an (n, 3) array of numbers") from None
+    if X.ndim != 2 or X.shape[1] != 3 or not len(X) or not np.all(np.isfinite(X)):
+        raise ConfigError(f"points must be a finite (n, 3) array with n >= 1, got shape "
+                          f"{X.shape}")
+    L = (X - result.origin) @ result.axes.T
+    zeta = quartic_terms(L[:, 0], L[:, 1]) @ result.surfaces[b]
+    depth = L[:, 2] - zeta if b == 1 else zeta - L[:, 2]
+    bad = np.flatnonzero(~(depth > 0.0))
+    if bad.size:
+        i = int(bad[0])
+        raise ConfigError(f"point {i} at ({', '.join(f'{c:.6g}' for c in X[i])}) is not inside "
+                          f"body {body!r}: {-depth[i]:.3g} above its contact surface",
+                          location={"point": i, "body": body})
+    return b, np.column_stack([L[:, :2], depth])
+
+
+def grid_stresses(result, body: str, points, step: int = -1) -> np.ndarray:
+    """The stress tensor (n, 6) = (σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz), global
+    components, tension positive, at global ``points`` (n, 3) inside ``body``
+    at the end of load step ``step`` (an index into ``result.history``)."""
+    if not isinstance(step, (int, np.integer)) or not -len(result.history) <= step < len(
+            result.history):
+        raise ConfigError(f"step must index the {len(result.history)} load steps, got {step!r}",
+                          location={"field": "step"})
+    b, local = frame_depths(result, body, points)
+    nu = result.corrections[b].body.material.poisson_ratio
+    p = result.history[step].p
+    if b == 0:
+        p = p * np.array([-1.0, -1.0, 1.0])
+    s = HalfSpaceStress(result.grid, nu).at(local, p)
+    if b == 0:
+        s[:, 4:] *= -1.0
+    A = result.axes
+    T = np.einsum("ai,nab,bj->nij", A, stress_tensors(s), A)
+    return np.stack([T[:, 0, 0], T[:, 1, 1], T[:, 2, 2], T[:, 0, 1], T[:, 1, 2], T[:, 0, 2]],
+                    axis=1)
+
+
+__all__ = ["frame_depths", "grid_stresses"]

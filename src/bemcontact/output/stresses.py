@@ -1,0 +1,162 @@
+"""The stress files of a run: ``[[output.stresses]]`` and the default probes.
+
+For each :class:`~bemcontact.stresses.StressField` (stem
+``stresses_<body>_<label>``):
+
+* ``<stem>.csv``: columns :data:`~bemcontact.stresses.COLUMNS` (x, y, z in
+  length units; the six components, von Mises and Tresca = (σ1 − σ3)/2 in
+  stress units, tension positive, compression negative), one row per point in
+  the probe's lattice order;
+* ``<stem>.vtu``: the points for ParaView (quadrilaterals for a plane or a
+  section, hexahedra for a box, a polyline for a line or profile) with the
+  tensor (``stress``, 6 components, xx yy zz xy yz xz), ``von_mises``,
+  ``tresca`` and the ``principal`` stresses as point data;
+* ``<stem>.png`` (figures on): von Mises on a plane or section, the
+  components and von Mises against the distance on a line or profile.
+
+``summary.json`` gets ``stresses``: per field its request, number of points
+and the maximum von Mises and Tresca stresses with their points, per step;
+and per body the largest over its fields (``maximum``).
+"""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..stresses import COLUMNS, StressField, default_requests, evaluate
+from .vtu import write_vtu
+from .tables import write_csv
+
+
+def stress_fields(result, options) -> tuple[list[StressField], list[str]]:
+    """The fields a run writes: the ``[[output.stresses]]`` requests, or the
+    default probes without them (when ``options.default_stresses``), and the
+    lines saying which bodies got no default probes and why.  Raises
+    :class:`ConfigError` for a request on an unknown body or with points
+    outside its body (before anything is written)."""
+    if options.stresses:
+        names = set(getattr(result, "names", ()))
+        for r in options.stresses:
+            if r.body not in names:
+                raise ConfigError(f"output.stresses {r.label!r}: unknown body {r.body!r}; the "
+                                  f"bodies are {sorted(names)}", location={"field": "body"})
+        return [evaluate(result, r) for r in options.stresses], []
+    if not options.default_stresses:
+        return [], []
+    requests, skipped = default_requests(result)
+    return [evaluate(result, r, lattice) for r, lattice in requests], skipped
+
+
+def stem(f: StressField) -> str:
+    return f"stresses_{f.request.body}_{f.request.label}"
+
+
+def file_names(fields: list[StressField], options) -> list[str]:
+    out = []
+    for f in fields:
+        out += [f"{stem(f)}.csv"] if options.csv else []
+        out += [f"{stem(f)}.vtu"] if options.vtu else []
+        out += [f"{stem(f)}.png"] if options.figures else []
+    return out
+
+
+def stress_summary(fields: list[StressField], skipped: list[str]) -> dict:
+    """``summary.json``'s ``stresses``: fields, per-body maxima, skipped."""
+    bodies: dict[str, dict] = {}
+    for f in fields:
+        for measure, m in (f.maxima[-1] if f.maxima else {}).items():
+            best = bodies.setdefault(f.request.body, {}).get(measure)
+            if best is None or m["value"] > best["value"]:
+                bodies[f.request.body][measure] = {**m, "label": f.request.label}
+    return {"fields": [f.summary() for f in fields], "maximum": bodies, "skipped": skipped}
+
+
+def write_stress_files(directory: pathlib.Path, fields: list[StressField],
+                       options, units) -> None:
+    """Write each field's files (module docstring) into ``directory``."""
+    for f in fields:
+        base = directory / stem(f)
+        if options.csv:
+            write_csv(base.with_suffix(".csv"), COLUMNS, f.table())
+        if options.vtu:
+            write_vtu(base.with_suffix(".vtu"), f.points, _cells(f.lattice.shape),
+                      {"stress": f.stresses, "von_mises": f.von_mises, "tresca": f.tresca,
+                       "principal": f.principal})
+        if options.figures:
+            _figure(base.with_suffix(".png"), f, units or {})
+
+
+def _cells(shape: tuple[int, ...]):
+    """VTU cells joining a lattice's points: its directions with more than
+    one point make a polyline, quadrilaterals or hexahedra."""
+    idx = np.arange(int(np.prod(shape))).reshape([n for n in shape if n > 1] or [1])
+    if idx.ndim == 1 and idx.size > 1:
+        return [("line", np.stack([idx[:-1], idx[1:]], axis=1))]
+    if idx.ndim == 2:
+        return [("quad", np.stack([idx[:-1, :-1].ravel(), idx[1:, :-1].ravel(),
+                                   idx[1:, 1:].ravel(), idx[:-1, 1:].ravel()], axis=1))]
+    if idx.ndim == 3:
+        nx, ny, nz = idx.shape
+        return [("hexahedron", np.stack([
+            idx[a:a + nx - 1, b:b + ny - 1, c:c + nz - 1].ravel()
+            for a, b, c in ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0),
+                            (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))], axis=1))]
+    return [("vertex", idx.reshape(-1, 1))]
+
+
+def _figure(path: pathlib.Path, f: StressField, units) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .plot import save_png
+
+    stress, length = units.get("stress", ""), units.get("length", "")
+    su = f" [{stress}]" if stress else ""
+    lu = f" [{length}]" if length else ""
+    lat = f.lattice
+    vm = f.von_mises
+    title = f"{f.request.body}: {f.request.label} ({f.request.kind})"
+    dims = [k for k, s in enumerate(lat.shape) if s > 1]
+    if len(dims) == 1:
+        k = dims[0]
+        x = lat.coordinates[k]
+        fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
+        for j, name in enumerate(("σxx", "σyy", "σzz", "σxy", "σyz", "σxz")):
+            ax.plot(x, f.stresses.reshape(-1, 6)[:, j], lw=1.2, label=name)
+        ax.plot(x, vm, "k", lw=2.0, label="von Mises")
+        ax.plot(x, f.tresca, "k--", lw=1.5, label="Tresca")
+        ax.axhline(0.0, color="0.6", lw=0.6)
+        ax.set_xlabel(f"{lat.names[k]}{lu}")
+        ax.set_ylabel(f"stress{su}")
+        ax.legend(ncol=2, fontsize=8)
+    else:
+        a, b = dims[:2]
+        X, Y = np.meshgrid(lat.coordinates[a], lat.coordinates[b], indexing="ij")
+        V = vm.reshape([lat.shape[d] for d in dims] if len(dims) == 2 else lat.shape)
+        if V.ndim == 3:  # a box: the middle slice across its last direction
+            V = V[:, :, V.shape[2] // 2]
+        fig, ax = plt.subplots(figsize=(6.8, 4.8), constrained_layout=True)
+        depth_down = lat.names[b] == "depth"
+        m = ax.contourf(X, Y, V, levels=20, cmap="magma_r")
+        fig.colorbar(m, ax=ax, label=f"von Mises{su}")
+        k = int(np.argmax(vm))
+        idx = np.unravel_index(k, lat.shape)
+        ax.plot(lat.coordinates[a][idx[a]], lat.coordinates[b][idx[b]], "c+", ms=14, mew=2,
+                label=f"max {vm[k]:.4g}{' ' + stress if stress else ''}")
+        ax.legend(loc="lower right", fontsize=8)
+        if depth_down:
+            ax.invert_yaxis()
+        ax.set_xlabel(f"{lat.names[a]}{lu}")
+        ax.set_ylabel(f"{lat.names[b]}{lu}")
+        ax.set_aspect("equal")
+    ax.set_title(title)
+    save_png(fig, path)
+    plt.close(fig)
+
+
+__all__ = ["file_names", "stress_fields", "stress_summary", "write_stress_files"]

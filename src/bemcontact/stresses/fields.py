@@ -1,0 +1,146 @@
+"""Stress fields on the points of a probe, their measures and maxima.
+
+:func:`evaluate` asks a solved result for the stresses of one
+:class:`~.probes.StressRequest` (``result.stresses(body, points)``: Somigliana's
+identity on the full path, the half-space field of the grid tractions on the
+multiscale path) at the end of every load step, and returns a
+:class:`StressField`: the points, the lattice, the final state's tensor and
+measures (von Mises, Tresca = the maximum shear stress (σ1 − σ3)/2,
+principal stresses) and, per step, each measure's maximum and where it is.
+
+Stresses are Cauchy stresses in the problem's stress units, tension positive
+(compression negative), components (σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz) in the
+global axes.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ConfigError
+from ..halfspace import principal_stresses, tresca, von_mises
+from .probes import Box, Line, Plane, StressRequest
+
+#: Columns of ``stresses_<body>_<label>.csv``.
+COLUMNS = ("x", "y", "z", "sxx", "syy", "szz", "sxy", "syz", "sxz", "von_mises", "tresca")
+
+#: The measures whose maxima are reported.
+MEASURES = ("von_mises", "tresca")
+
+
+@dataclass(frozen=True)
+class Lattice:
+    """Points (n, 3) in C order of ``shape``, with each lattice direction's
+    coordinates (1-D) and name (for tables and figures)."""
+
+    points: np.ndarray
+    shape: tuple[int, ...]
+    coordinates: tuple[np.ndarray, ...]
+    names: tuple[str, ...]
+
+    @classmethod
+    def of(cls, probe) -> Lattice:
+        """The lattice of a :class:`Line`, :class:`Plane` or :class:`Box`."""
+        if isinstance(probe, Line):
+            return cls(probe.locations(), probe.shape, (probe.distance(),), ("s",))
+        if isinstance(probe, Plane):
+            return cls(probe.locations(), probe.shape, probe.coordinates(), ("u", "v"))
+        if isinstance(probe, Box):
+            return cls(probe.locations(), probe.shape,
+                       tuple(np.linspace(a, b, n) for a, b, n in
+                             zip(probe.lower, probe.upper, probe.points)), ("x", "y", "z"))
+        raise ConfigError(f"a probe is a Line, Plane or Box, got {type(probe).__name__}")
+
+
+@dataclass
+class StressField:
+    """The stresses of one request.
+
+    request: what was asked.  lattice: the points.  stresses: (n, 6) at the
+    end of the last step.  maxima: per load step, ``{measure: {"value",
+    "point"}}`` for :data:`MEASURES`.  note: how the field was computed
+    (the path and its model)."""
+
+    request: StressRequest
+    lattice: Lattice
+    stresses: np.ndarray
+    maxima: list[dict] = field(default_factory=list)
+    note: str = ""
+
+    @property
+    def points(self) -> np.ndarray:
+        return self.lattice.points
+
+    @property
+    def von_mises(self) -> np.ndarray:
+        return von_mises(self.stresses)
+
+    @property
+    def tresca(self) -> np.ndarray:
+        return tresca(self.stresses)
+
+    @property
+    def principal(self) -> np.ndarray:
+        """(n, 3) σ1 ≥ σ2 ≥ σ3."""
+        return principal_stresses(self.stresses)
+
+    def table(self) -> np.ndarray:
+        """(n, 11) in the order of :data:`COLUMNS`."""
+        return np.column_stack([self.points, self.stresses, self.von_mises, self.tresca])
+
+    def summary(self) -> dict:
+        """JSON-ready: the request, the number of points and the maxima of
+        the last step and of every step."""
+        return {"body": self.request.body, "label": self.request.label,
+                "kind": self.request.kind, "points": int(len(self.points)),
+                "shape": list(self.lattice.shape), "note": self.note,
+                "maximum": self.maxima[-1] if self.maxima else {}, "steps": self.maxima}
+
+
+def maxima(points: np.ndarray, stresses: np.ndarray) -> dict:
+    """``{measure: {"value": float, "point": [x, y, z]}}`` for :data:`MEASURES`."""
+    out = {}
+    for name, values in (("von_mises", von_mises(stresses)), ("tresca", tresca(stresses))):
+        k = int(np.argmax(values))
+        out[name] = {"value": float(values[k]), "point": points[k].tolist()}
+    return out
+
+
+def _states(result) -> list:
+    """The result's per-step states as (callable stresses(body, points))."""
+    history = getattr(result, "history", None) or [result]
+    if hasattr(result, "grid"):  # the multiscale path: GridResult.stresses(..., step)
+        return [lambda b, x, k=k: result.stresses(b, x, k) for k in range(len(history))]
+    return [r.stresses for r in history]
+
+
+def evaluate(result, request: StressRequest, lattice: Lattice | None = None, *,
+             every_step: bool = True) -> StressField:
+    """The :class:`StressField` of ``request`` on a solved ``result``
+    (``lattice``: its points, by default the probe's).  With ``every_step``
+    the maxima of every load step are computed (one evaluation per step),
+    else of the last only.  Raises :class:`ConfigError` for an unknown body or
+    a point outside it (naming the request's label)."""
+    if not isinstance(request, StressRequest):
+        raise ConfigError(f"evaluate: expected a StressRequest, got {type(request).__name__}")
+    lat = lattice if lattice is not None else Lattice.of(request.probe)
+    states = _states(result)
+    if not every_step:
+        states = states[-1:]
+    maxs, s = [], None
+    for state in states:
+        try:
+            s = np.asarray(state(request.body, lat.points), dtype=float)
+        except ConfigError as exc:
+            raise ConfigError(f"output.stresses {request.label!r} ({request.kind} in "
+                              f"{request.body!r}): {exc}",
+                              location={**exc.location, "label": request.label}) from None
+        maxs.append(maxima(lat.points, s))
+    note = ("half-space field of the grid tractions (depth below each body's contact surface)"
+            if hasattr(result, "grid") else "Somigliana's identity on the boundary solution")
+    return StressField(request, lat, s, maxs, note)
+
+
+__all__ = ["COLUMNS", "Lattice", "MEASURES", "StressField", "evaluate", "maxima"]
