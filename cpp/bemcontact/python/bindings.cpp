@@ -10,6 +10,7 @@
 #include "python/bind_common.hpp"
 #include "bem/element.hpp"
 #include "bem/integration.hpp"
+#include "bem/interior.hpp"
 #include "bem/operators.hpp"
 #include "bem/quadrature.hpp"
 
@@ -247,6 +248,86 @@ void bind_bases(nb::module_& mod) {
       "Smallest relative pivot of each element's functional Vandermonde matrix (0: not unisolvent).");
 }
 
+// Fields inside a body from its boundary solution (bem/interior.hpp).
+void bind_interior(nb::module_& mod) {
+  using Double1 = nb::ndarray<double, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+  using Int64_1 = nb::ndarray<int64_t, nb::ndim<1>, nb::c_contig, nb::device::cpu>;
+  nb::class_<InteriorEvaluator>(mod, "InteriorEvaluator",
+                                "Somigliana's identity at interior points of a body whose elements "
+                                "and boundary fields are given in monomial form.")
+      .def(
+          "__init__",
+          [](InteriorEvaluator* self, int type, CDouble3 geo, CDouble3 coef,
+             double shear_modulus, double nu, double tolerance, int max_order, int max_level) {
+            if (type < 0 || type > 4 ||
+                geo.shape(1) != static_cast<size_t>(nodes_per_element(type)) ||
+                geo.shape(2) != 3 || coef.shape(0) != geo.shape(0) ||
+                coef.shape(1) != geo.shape(1) || coef.shape(2) != 6)
+              throw nb::value_error("InteriorEvaluator: inconsistent shapes");
+            new (self) InteriorEvaluator(type, static_cast<int64_t>(geo.shape(0)), geo.data(),
+                                         coef.data(), shear_modulus, nu, tolerance, max_order,
+                                         max_level);
+          },
+          nb::arg("type"), nb::arg("geo"), nb::arg("coef"), nb::arg("shear_modulus"),
+          nb::arg("nu"), nb::arg("tolerance"), nb::arg("max_order"), nb::arg("max_level"),
+          "type: element type code; geo (m x k x 3) and coef (m x k x 6: u, t) the monomial "
+          "coefficients of each element's position and boundary fields.")
+      .def_prop_ro(
+          "sizes",
+          [](const InteriorEvaluator& ev) {
+            const std::vector<double>& s = ev.sizes();
+            double* out = new double[s.size()];
+            std::copy(s.begin(), s.end(), out);
+            return owned(out, {s.size()});
+          },
+          nb::rv_policy::move, "Diameter of each element (m,).")
+      .def(
+          "nearest",
+          [](const InteriorEvaluator& ev, CDouble2 X, int threads, Double1 dist, Int64_1 element,
+             Double2 xi, Double1 cosine) {
+            const size_t n = X.shape(0);
+            if (X.shape(1) != 3 || dist.shape(0) != n || element.shape(0) != n ||
+                xi.shape(0) != n || xi.shape(1) != 2 || cosine.shape(0) != n)
+              throw nb::value_error("InteriorEvaluator.nearest: inconsistent shapes");
+            const double* x = X.data();
+            double* d = dist.data();
+            int64_t* e = element.data();
+            double* l = xi.data();
+            double* c = cosine.data();
+            nb::gil_scoped_release release;
+            ev.nearest(x, static_cast<int64_t>(n), threads, d, e, l, c);
+          },
+          nb::arg("X"), nb::arg("threads"), nb::arg("dist"), nb::arg("element"), nb::arg("xi"),
+          nb::arg("cosine"),
+          "Per point of X (n x 3), into the given arrays: the distance to the surface, the "
+          "element of the nearest surface point and its local coordinates (n x 2), the cosine "
+          "of x - y with the outward normal there.")
+      .def(
+          "integrate",
+          [](const InteriorEvaluator& ev, CDouble2 X, CInt64_1 element, CDouble2 xi,
+             bool stresses, int threads, Double2 out) {
+            const size_t n = X.shape(0);
+            const int64_t m = ev.n_elements();
+            if (X.shape(1) != 3 || element.shape(0) != n || xi.shape(0) != n ||
+                xi.shape(1) != 2 || out.shape(0) != n || out.shape(1) != (stresses ? 6u : 3u))
+              throw nb::value_error("InteriorEvaluator.integrate: inconsistent shapes");
+            for (size_t p = 0; p < n; ++p)
+              if (element.data()[p] < 0 || element.data()[p] >= m)
+                throw nb::value_error("InteriorEvaluator.integrate: element out of range");
+            const double* x = X.data();
+            const int64_t* e = element.data();
+            const double* l = xi.data();
+            double* o = out.data();
+            nb::gil_scoped_release release;
+            ev.integrate(x, e, l, static_cast<int64_t>(n), stresses, threads, o);
+          },
+          nb::arg("X"), nb::arg("element"), nb::arg("xi"), nb::arg("stresses"), nb::arg("threads"),
+          nb::arg("out"),
+          "Stress (n x 6: xx, yy, zz, xy, yz, xz) or displacement (n x 3) at the points X into "
+          "out, the boundary displacement at (element, xi), the nearest surface point, "
+          "subtracted before integrating.");
+}
+
 // How this module was compiled (for provenance, and for the packaging test
 // that a wheel is portable).
 nb::dict build_info() {
@@ -288,4 +369,5 @@ NB_MODULE(_core, mod) {
   bind_operators(mod);
   bind_geometry(mod);
   bind_bases(mod);
+  bind_interior(mod);
 }
