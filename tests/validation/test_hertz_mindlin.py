@@ -414,3 +414,46 @@ def test_hertz_stresses_below_the_contact_match_johnson_and_converge(frictionles
         rate = cases.fitted_rate(hs, err)
         print(f"{name}: errors {['%.4f' % v for v in err]} fitted rate {rate:.2f}")
         assert rate >= 1.0, (name, rate)
+
+
+def _radial_surface_stress(res, body="block", region="zmax"):
+    """(r, σ_r) at the functional nodes of ``body``'s ``region``."""
+    sol = res.bodies[res.names.index(body)]
+    nodes = sol.nodes_of(region)
+    X = sol.points[nodes]
+    r = np.hypot(X[:, 0], X[:, 1])
+    s = res.surface_stresses(body)[nodes]
+    c, d = X[:, 0] / np.maximum(r, 1e-300), X[:, 1] / np.maximum(r, 1e-300)
+    return r, s[:, 0] * c * c + s[:, 1] * d * d + 2.0 * s[:, 3] * c * d
+
+
+def test_hertz_surface_stress_matches_johnson_away_from_the_contact_edge(frictionless):
+    """The block's radial surface stress σ_r (from its tractions and the
+    tangential derivatives of its displacement) against Johnson's eq. 3.44
+    for a and p0 of Hertz at the computed force: outside the contact (1.3a
+    <= r <= 3a) within 1 % of p0 (measured 0.34 % on all three meshes);
+    inside (r <= 0.8a, where σ_r is compressive, −0.8 p0 at the centre)
+    within 5 % of p0, falling at a fitted rate >= 0.9 (measured 3.6 / 2.3 /
+    1.6 % at h = 0.1 / 0.07 / 0.05, rate 1.1: the displacement's derivative is
+    one order below the displacement). The tension at the contact edge,
+    (1 − 2ν)p0/3 = 0.133 p0 in theory, sits on the square-root edge of the
+    pressure and is smeared over an element by the discrete solution: the
+    largest σ_r is 0.091 / 0.100 / 0.109 p0 (−32 / −25 / −18 %), rising on
+    every refinement (asserted: rising, and at least 60 % of the theory). The
+    grid path meets the 5 % asked at the edge (tests/unit/multiscale/test_stress.py)."""
+    peaks, inside, hs = [], [], []
+    for h, res, _ in frictionless:
+        hz = _hertz(res.normal_force)
+        a, p0 = hz.contact_radius, hz.peak_pressure
+        r, sr = _radial_surface_stress(res)
+        exact = stress_ref.hertz_surface_stresses(r, a, p0, 0.3).sigma_r
+        inner, outer = r <= 0.8 * a, (r >= 1.3 * a) & (r <= 3 * a)
+        inside.append(np.abs(sr[inner] - exact[inner]).max() / p0)
+        assert np.abs(sr[outer] - exact[outer]).max() <= 0.01 * p0, h
+        peaks.append(sr[r < 2 * a].max() / p0)
+        hs.append(h)
+    theory = (1.0 - 2.0 * 0.3) / 3.0
+    assert max(inside) <= 0.05 and cases.fitted_rate(hs, inside) >= 0.9, inside
+    assert all(b < a for a, b in zip(inside, inside[1:])), inside
+    assert all(b > a for a, b in zip(peaks, peaks[1:])), peaks
+    assert min(peaks) >= 0.6 * theory and max(peaks) <= theory, peaks

@@ -321,6 +321,13 @@ class ElasticBody:
 
         return interior_stresses(solution, points, self.material)
 
+    def surface_stresses(self, solution: BodySolution) -> np.ndarray:
+        """Stresses (N, 6) at the functional nodes of this body's boundary
+        ``solution`` (:func:`~bemcontact.bem.surface_stress.surface_stresses`)."""
+        from .surface_stress import surface_stresses
+
+        return surface_stresses(solution, self.material)
+
     def mixed_system(self, known_u: np.ndarray, W: np.ndarray,
                      linear: LinearSolverOptions, threads: int | None, border: int,
                      dofs: np.ndarray | None = None):

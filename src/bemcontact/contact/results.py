@@ -223,14 +223,25 @@ class ContactResult:
         positive, at interior ``points`` (n, 3) of the body named ``body``,
         from its solution in this result (a BEM body: Somigliana's identity,
         :func:`~bemcontact.bem.interior.interior_stresses`)."""
+        return self._model(body, "stresses").stresses(self.bodies[self.names.index(body)], points)
+
+    def surface_stresses(self, body: str) -> np.ndarray:
+        """The stress tensor (N, 6) on the surface of the body named
+        ``body``, at the N functional nodes of its solution (``bodies[k].points``):
+        from its tractions and the tangential derivatives of its displacement
+        (:func:`~bemcontact.bem.surface_stress.surface_stresses`)."""
+        return self._model(body, "surface_stresses").surface_stresses(
+            self.bodies[self.names.index(body)])
+
+    def _model(self, body: str, method: str):
         if body not in self.names:
             raise ConfigError(f"unknown body {body!r}; the bodies are {list(self.names)}",
                               location={"body": body})
         model = self.models.get(body)
-        if model is None or not hasattr(model, "stresses"):
+        if model is None or not hasattr(model, method):
             raise ConfigError(f"body {body!r} gives no stresses (only bodies with a "
-                              "stresses() method do)", location={"body": body})
-        return model.stresses(self.bodies[self.names.index(body)], points)
+                              f"{method}() method do)", location={"body": body})
+        return model
 
     def verify(self) -> Verification:
         """This state's checks against the contact conditions

@@ -50,7 +50,7 @@ from ..settings import Key, check_settings, setting
 from .correction import BodyCorrection
 from .interface import GridInterface
 from .operator import PairOperator
-from .stress import grid_stresses
+from .stress import grid_stresses, grid_surface_stresses
 from .surface import quartic_terms
 
 #: Nodes of each contact surface the quartic fit uses (the nearest to the
@@ -122,6 +122,11 @@ class GridResult:
         ``points`` (n, 3) inside ``body`` at the end of load step ``step``
         (:func:`~bemcontact.multiscale.stress.grid_stresses`)."""
         return grid_stresses(self, body, points, step)
+
+    def surface_stresses(self, body: str, step: int = -1) -> np.ndarray:
+        """The stress tensor (n, 6) on ``body``'s surface at each grid cell
+        (:func:`~bemcontact.multiscale.stress.grid_surface_stresses`)."""
+        return grid_surface_stresses(self, body, step)
 
     @property
     def converged(self) -> bool:

@@ -56,16 +56,54 @@ def grid_stresses(result, body: str, points, step: int = -1) -> np.ndarray:
     """The stress tensor (n, 6) = (σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz), global
     components, tension positive, at global ``points`` (n, 3) inside ``body``
     at the end of load step ``step`` (an index into ``result.history``)."""
+    _check_step(result, step)
+    b, local = frame_depths(result, body, points)
+    field, p = _field(result, b, step)
+    return _global(result, b, field.at(local, p))
+
+
+def grid_surface_stresses(result, body: str, step: int = -1) -> np.ndarray:
+    """The stress tensor (n, 6), global components, on ``body``'s contact
+    surface at each grid cell (cell order; the point of the body's surface
+    above or below the cell's centre), at the end of load step ``step``: the
+    half-space field's limit at the surface (evaluated at a depth of 1e-9
+    cells, by FFT), whose σ_iζ are the cell's tractions."""
+    _check_step(result, step)
+    if body not in result.names:
+        raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
+                          location={"body": body})
+    b = result.names.index(body)
+    field, p = _field(result, b, step)
+    g = result.grid
+    return _global(result, b, field.layer(p, 1e-9 * min(g.dx, g.dy)).reshape(-1, 6))
+
+
+def grid_surface_points(result, body: str) -> np.ndarray:
+    """(n, 3) global points of ``body``'s contact surface at the grid cells
+    (where :func:`grid_surface_stresses` gives the stresses)."""
+    b = result.names.index(body)
+    c = result.grid.centres
+    zeta = quartic_terms(c[:, 0], c[:, 1]) @ result.surfaces[b]
+    return result.origin + np.column_stack([c[:, :2], zeta]) @ result.axes
+
+
+def _check_step(result, step) -> None:
     if not isinstance(step, (int, np.integer)) or not -len(result.history) <= step < len(
             result.history):
         raise ConfigError(f"step must index the {len(result.history)} load steps, got {step!r}",
                           location={"field": "step"})
-    b, local = frame_depths(result, body, points)
+
+
+def _field(result, b: int, step: int):
+    """The body's half-space stress field and the tractions it carries (body
+    1: mirrored, module docstring)."""
     nu = result.corrections[b].body.material.poisson_ratio
     p = result.history[step].p
-    if b == 0:
-        p = p * np.array([-1.0, -1.0, 1.0])
-    s = HalfSpaceStress(result.grid, nu).at(local, p)
+    return HalfSpaceStress(result.grid, nu), p * np.array([-1.0, -1.0, 1.0]) if b == 0 else p
+
+
+def _global(result, b: int, s: np.ndarray) -> np.ndarray:
+    """Frame components of body b (body 1 mirrored) to global ones."""
     if b == 0:
         s[:, 4:] *= -1.0
     A = result.axes
@@ -74,4 +112,4 @@ def grid_stresses(result, body: str, points, step: int = -1) -> np.ndarray:
                     axis=1)
 
 
-__all__ = ["frame_depths", "grid_stresses"]
+__all__ = ["frame_depths", "grid_stresses", "grid_surface_points", "grid_surface_stresses"]

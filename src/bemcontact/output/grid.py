@@ -10,7 +10,10 @@ full result:
   pressure and the checks of the contact conditions;
 * ``grid.csv``: per cell its centre (global), pressure, tangential traction
   (global), gap, relative tangential displacement and state, at the last step;
-* ``grid.vtu``: the cells as quadrilaterals with those fields as cell data;
+* ``grid.vtu``: the cells as quadrilaterals with those fields as cell data,
+  and each body's surface stresses there (``<body>_stress``, 6 components,
+  ``<body>_von_mises``, ``<body>_tresca``, ``<body>_max_principal``);
+* the stress files of :mod:`bemcontact.output.stresses`;
 * ``grid_tractions.png``: pressure and tangential traction maps (with
   matplotlib).
 """
@@ -28,6 +31,7 @@ from ..errors import ConfigError
 from ..multiscale.pair import GridResult
 from .rundir import RunDirectory
 from .vtu import write_vtu
+from ..stresses import measures
 from .stresses import file_names, stress_fields, stress_summary, write_stress_files
 from .tables import write_csv
 from .write import OutputOptions, figures_by_default, require_matplotlib, summary, write_json
@@ -70,8 +74,7 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
         data = {**result.summary(), "names": list(result.names)}
-        if fields or skipped:
-            data["stresses"] = stress_summary(fields, skipped)
+        data["stresses"] = stress_summary(result, fields, skipped)
         write_json(tmp / "summary.json", summary(data, problem_echo))
         write_stress_files(tmp, fields, opt, (problem_echo or {}).get("units"))
         if opt.csv:
@@ -80,8 +83,13 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
             write_csv(tmp / "grid.csv", GRID_COLUMNS, table, ("state",))
         if opt.vtu:
             points, quads = _quads(result)
+            cells = dict(f)
+            for name in result.names:  # each body's surface stresses at the cells
+                stress = result.surface_stresses(name)
+                cells[f"{name}_stress"] = stress
+                cells.update({f"{name}_{k}": v for k, v in measures(stress).items()})
             write_vtu(tmp / "grid.vtu", points, [("quad", quads)], {},
-                       cell_data={k: [np.asarray(v)] for k, v in f.items()})
+                       cell_data={k: [np.asarray(v)] for k, v in cells.items()})
         if opt.figures:
             _figure(tmp / "grid_tractions.png", result, f, (problem_echo or {}).get("units"))
     out = pathlib.Path(rundir.given)

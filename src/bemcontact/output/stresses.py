@@ -26,7 +26,7 @@ import pathlib
 import numpy as np
 
 from ..errors import ConfigError
-from ..stresses import COLUMNS, StressField, default_requests, evaluate
+from ..stresses import COLUMNS, StressField, default_requests, evaluate, surface_maxima
 from .vtu import write_vtu
 from .tables import write_csv
 
@@ -63,15 +63,17 @@ def file_names(fields: list[StressField], options) -> list[str]:
     return out
 
 
-def stress_summary(fields: list[StressField], skipped: list[str]) -> dict:
-    """``summary.json``'s ``stresses``: fields, per-body maxima, skipped."""
+def stress_summary(result, fields: list[StressField], skipped: list[str]) -> dict:
+    """``summary.json``'s ``stresses``: fields, per-body maxima, skipped, and
+    per body the maxima of its surface stresses (``surface``)."""
     bodies: dict[str, dict] = {}
     for f in fields:
         for measure, m in (f.maxima[-1] if f.maxima else {}).items():
             best = bodies.setdefault(f.request.body, {}).get(measure)
             if best is None or m["value"] > best["value"]:
                 bodies[f.request.body][measure] = {**m, "label": f.request.label}
-    return {"fields": [f.summary() for f in fields], "maximum": bodies, "skipped": skipped}
+    return {"fields": [f.summary() for f in fields], "maximum": bodies, "skipped": skipped,
+            "surface": surface_maxima(result)}
 
 
 def write_stress_files(directory: pathlib.Path, fields: list[StressField],

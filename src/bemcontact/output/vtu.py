@@ -24,6 +24,7 @@ import numpy as np
 
 from ..contact.results import ContactResult
 from ..mesh.element import CORNERS, REFERENCE_NODES
+from ..stresses import measures
 from .layout import Layout, result_layout
 
 _MESHIO_CELL = {"tri3": "triangle", "tri6": "triangle6", "quad4": "quad", "quad8": "quad8",
@@ -115,6 +116,8 @@ def _geometric_vtu(path: pathlib.Path, disc, elements, fields) -> None:
         if name == "normal":
             v = v / np.maximum(np.linalg.norm(v, axis=1, keepdims=True), 1e-300)
         point_data[name] = v
+    if "stress" in point_data:
+        point_data.update(measures(point_data["stress"]))
     cell_data = {"region": [mesh.element_region[elements].astype(np.int32)]}
     write_vtu(path, mesh.nodes[nodes], [(_MESHIO_CELL[mesh.element_type], conn)], point_data,
                cell_data, region_field_data(mesh))
@@ -131,21 +134,39 @@ def _vertices(n: int):
     return [("vertex", np.arange(n, dtype=np.int64)[:, None])]
 
 
-def _write_body_vtu(path: pathlib.Path, sol) -> None:
+def _write_body_vtu(path: pathlib.Path, sol, stress=None) -> None:
     d = sol.discretization
-    _geometric_vtu(path, d, np.arange(d.mesh.n_elements), {
+    fields = {
         "displacement": (sol.displacement, "mean"), "traction": (sol.traction, "mean"),
         "normal": (sol.normals, "mean"), "weight": (sol.weights, "sum"),
-    })
+    }
+    if stress is not None:
+        fields["stress"] = (stress, "mean")
+    _geometric_vtu(path, d, np.arange(d.mesh.n_elements), fields)
 
 
-def _write_interface_vtu(path: pathlib.Path, sol, iface) -> None:
+def _surface_stresses(result: ContactResult) -> dict:
+    """Body name -> its surface stresses (N, 6), for the bodies that give them."""
+    out = {}
+    for name in result.names:
+        model = getattr(result, "models", {}).get(name)
+        if model is not None and hasattr(model, "surface_stresses"):
+            out[name] = result.surface_stresses(name)
+    return out
+
+
+def _write_interface_vtu(path: pathlib.Path, sol, iface, stress=None) -> None:
     d = sol.discretization
     elements = d.mesh.region(iface.surface)
     full = np.full(d.n_points, -1, dtype=np.int64)
     full[iface.nodes] = np.arange(iface.nodes.size)
+    fields = _interface_fields(iface)
+    if stress is not None:
+        fields["stress"] = stress[iface.nodes]
     if elements.size == 0 or (full[d.fconn[elements, :d.mesh.elements.shape[1]]] < 0).any():
-        write_vtu(path, iface.points, _vertices(iface.nodes.size), _interface_fields(iface))
+        if stress is not None:
+            fields.update(measures(fields["stress"]))
+        write_vtu(path, iface.points, _vertices(iface.nodes.size), fields)
         return
 
     def spread(values):  # interface values onto all functional nodes (others unused)
@@ -156,7 +177,7 @@ def _write_interface_vtu(path: pathlib.Path, sol, iface) -> None:
 
     how = {"state": "max", "weight": "sum"}
     _geometric_vtu(path, d, elements, {
-        name: (spread(v), how.get(name, "mean")) for name, v in _interface_fields(iface).items()
+        name: (spread(v), how.get(name, "mean")) for name, v in fields.items()
     })
 
 
@@ -213,17 +234,20 @@ def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str
     """The VTU files of one state, ``<stem><suffix>.vtu``, stems from
     ``files`` (default: :func:`~bemcontact.output.layout.result_layout`)."""
     files = result_layout(result) if files is None else files
-    for sol, n in zip(result.bodies, files.bodies):
-        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol)
+    stress = _surface_stresses(result)
+    for sol, name, n in zip(result.bodies, result.names, files.bodies):
+        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol, stress.get(name))
     if not files.assembly:
         for sol, iface in zip(_solutions(result, result.interfaces), result.interfaces):
-            _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface)
+            _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface,
+                                 stress.get(iface.body))
         _write_frame_vtu(directory / f"frame{suffix}.vtu", result.frame, frame_cells(result))
         return
     for pair, names in zip(result.pairs, files.pairs):
         for sol, iface, stem in zip(_solutions(result, pair.interfaces), pair.interfaces,
                                     names.interfaces):
-            _write_interface_vtu(directory / f"{stem}{suffix}.vtu", sol, iface)
+            _write_interface_vtu(directory / f"{stem}{suffix}.vtu", sol, iface,
+                                 stress.get(iface.body))
         _write_frame_vtu(directory / f"{names.frame}{suffix}.vtu", pair.frame,
                          frame_cells(result, pair))
 

@@ -6,7 +6,7 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
 
 * ``summary.json``: :meth:`ContactResult.summary` plus ``version``, ``names``
   (body 1, body 2; every body of an assembly) and ``problem`` (the problem file's echo, if given).
-* ``<body>.vtu``: the body's whole surface.
+* ``<body>.vtu``: the body's whole surface, with its surface stresses.
 * ``<body>_interface.vtu``, ``<body>_interface.csv``: its contact surface.
 * ``frame.vtu``, ``frame.csv``: the contact frame nodes.
 * ``<name>.pvd`` for each of the VTU files above, with ``steps/<name>_<k>.vtu``
@@ -18,6 +18,9 @@ is set by :class:`OutputOptions`, the problem file's ``[output]`` table):
   matplotlib, ``pip install "bemcontact[plot]"``; figures on by default are
   skipped without it, with an
   :class:`~bemcontact.errors.OptionalDependencyWarning`).
+
+* ``stresses_<body>_<label>.csv``, ``.vtu``, ``.png``: stresses inside the
+  bodies (:mod:`bemcontact.output.stresses`).
 
 An assembly (several contact pairs) writes every ``<body>.vtu`` and, per
 pair, its frame, interfaces and figures under the pair's names
@@ -281,8 +284,7 @@ def write_results(
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
         data = summary(result, problem_echo)
-        if fields or skipped:
-            data["stresses"] = _json_ready(stress_summary(fields, skipped))
+        data["stresses"] = _json_ready(stress_summary(result, fields, skipped))
         _write_json(tmp / "summary.json", data)
         write_stress_files(tmp, fields, opt, (problem_echo or {}).get("units"))
         if opt.vtu:

@@ -21,13 +21,15 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..halfspace import principal_stresses, tresca, von_mises
+from ..multiscale.stress import grid_surface_points
 from .probes import Box, Line, Plane, StressRequest
 
 #: Columns of ``stresses_<body>_<label>.csv``.
 COLUMNS = ("x", "y", "z", "sxx", "syy", "szz", "sxy", "syz", "sxz", "von_mises", "tresca")
 
-#: The measures whose maxima are reported.
-MEASURES = ("von_mises", "tresca")
+#: The measures whose maxima are reported: von Mises, Tresca and the largest
+#: principal stress σ1 (the largest tension, where brittle parts crack).
+MEASURES = ("von_mises", "tresca", "max_principal")
 
 
 @dataclass(frozen=True)
@@ -99,12 +101,36 @@ class StressField:
                 "maximum": self.maxima[-1] if self.maxima else {}, "steps": self.maxima}
 
 
+def measures(stresses: np.ndarray) -> dict[str, np.ndarray]:
+    """The :data:`MEASURES` of (n, 6) stresses: name -> (n,)."""
+    return {"von_mises": von_mises(stresses), "tresca": tresca(stresses),
+            "max_principal": principal_stresses(stresses)[..., 0]}
+
+
 def maxima(points: np.ndarray, stresses: np.ndarray) -> dict:
     """``{measure: {"value": float, "point": [x, y, z]}}`` for :data:`MEASURES`."""
     out = {}
-    for name, values in (("von_mises", von_mises(stresses)), ("tresca", tresca(stresses))):
+    for name, values in measures(stresses).items():
         k = int(np.argmax(values))
         out[name] = {"value": float(values[k]), "point": points[k].tolist()}
+    return out
+
+
+def surface_maxima(result) -> dict:
+    """Per body of ``result``, the :func:`maxima` of its surface stresses at
+    the end of the last step (the full path: at its solution's functional
+    nodes; the multiscale path: on its contact surface at the grid cells);
+    bodies that give none are left out."""
+    out = {}
+    for k, name in enumerate(result.names):
+        if hasattr(result, "grid"):
+            points, s = grid_surface_points(result, name), result.surface_stresses(name)
+        else:
+            model = result.models.get(name)
+            if model is None or not hasattr(model, "surface_stresses"):
+                continue
+            points, s = result.bodies[k].points, result.surface_stresses(name)
+        out[name] = maxima(points, s)
     return out
 
 
@@ -143,4 +169,5 @@ def evaluate(result, request: StressRequest, lattice: Lattice | None = None, *,
     return StressField(request, lat, s, maxs, note)
 
 
-__all__ = ["COLUMNS", "Lattice", "MEASURES", "StressField", "evaluate", "maxima"]
+__all__ = ["COLUMNS", "Lattice", "MEASURES", "StressField", "evaluate", "maxima", "measures",
+           "surface_maxima"]

@@ -62,3 +62,31 @@ def test_points_outside_a_body_or_unknown_bodies_are_refused(hertz_on_grid):
         res.stresses("cube", [[0.0, 0.0, -0.1]])
     with pytest.raises(ConfigError, match="step must index"):
         res.stresses("block", [[0.0, 0.0, -0.1]], step=3)
+
+
+def test_the_tension_at_the_contact_edge_on_the_grid_matches_hertz(hertz_on_grid):
+    """The block's surface radial stress at the grid cells (the half-space
+    field's limit at the surface): its largest value, just outside the
+    contact edge, within 5 % of Johnson's (1 − 2ν)p0/3 (measured −2.9 % at
+    cells of a/24, −1.5 % at a/48: the cell nearest the edge from outside);
+    at the centre σ_r = −(1 + 2ν)p0/2 and σ_z = −p0 within 0.5 % of p0
+    (the centre cell's pressure; measured 0.12 %); and the two bodies'
+    surfaces carry the same normal stress σ_zz (the traction, to round-off)."""
+    from bemcontact.multiscale.stress import grid_surface_points
+
+    res = hertz_on_grid
+    P = res.history[-1].force[2]
+    h = ref.hertz(P, 10.0, cases.SphereOnBlock().contact_modulus)
+    a, p0 = h.contact_radius, h.peak_pressure
+    s = res.surface_stresses("block")
+    X = grid_surface_points(res, "block") - res.origin
+    r = np.hypot(X[:, 0], X[:, 1])
+    c, d = X[:, 0] / np.maximum(r, 1e-300), X[:, 1] / np.maximum(r, 1e-300)
+    sr = s[:, 0] * c * c + s[:, 1] * d * d + 2.0 * s[:, 3] * c * d
+    k = int(np.argmax(sr))
+    assert abs(sr[k] / p0 / ((1.0 - 2.0 * NU) / 3.0) - 1.0) < 0.05
+    assert 1.0 <= r[k] / a <= 1.1
+    centre = int(np.argmin(r))
+    assert abs(s[centre, 0] / p0 + (1.0 + 2.0 * NU) / 2.0) < 5e-3
+    assert abs(s[centre, 2] / p0 + 1.0) < 5e-3
+    assert np.allclose(res.surface_stresses("sphere")[:, 2], s[:, 2], rtol=0, atol=1e-9 * p0)
