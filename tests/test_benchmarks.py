@@ -143,3 +143,18 @@ def test_multiscale_edges_layers_benchmark_smoke():
     row = mod.case(4.0, 10.0 - 10.0 * mod.A, 10.0)
     assert row["auto"] == "multiscale"
     assert abs(row["P_err_multiscale"]) < 0.02 and -0.08 < row["P_err_halfspace"] < -0.03
+
+
+def test_interior_stress_points_benchmark_smoke():
+    spec = importlib.util.spec_from_file_location("b_is", BENCH / "interior_stress_points.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    # 400 points below the Hertz contact, both meshes at h = 0.2 mm (a/h = 2.8):
+    # measured 62 near / 338 deep, the largest shear 0.299 p0 at 0.44 a (Hertz:
+    # 0.310 p0 at 0.481 a), 3.0e-2 p0 from Hamilton's field at the deep points
+    row = mod.one(400, fine_size=0.2, repeat=1)
+    assert row["near"] > 0 and row["deep"] > 0 and row["near"] + row["deep"] == 400
+    assert 0.27 < row["tau_max_p0"] < 0.34 and 0.3 < row["tau_max_depth_a"] < 0.7, row
+    assert row["hamilton_deep_p0"] < 0.05, row
+    for k in ("wall_s", "cpu_s", "near_wall_us", "deep_wall_us", "peak_rss_mb"):
+        assert row[k] > 0, k

@@ -265,32 +265,33 @@ void InteriorEvaluator::fill(int64_t e, const Piece& p, const Rule2D& r, double*
   }
 }
 
-// The order-k rule on every element (built once, on first use).
-const double* InteriorEvaluator::element_rule(int k) const {
-  std::call_once(once_[k], [&] {
-    const Rule2D& r = ref_[k];
-    const size_t per = kFields * r.size();
-    std::vector<double> all(static_cast<size_t>(m_) * per);
-    const Piece whole{{0, 0}, {1, 0, 0, 1}};
-    for (int64_t e = 0; e < m_; ++e) fill(e, whole, r, all.data() + e * per);
-    rules_[k] = std::move(all);
+// The order-k rule on element e: its cached block, filled now if it is
+// empty; while another thread fills it, a copy made in scratch.
+const double* InteriorEvaluator::element_rule(int64_t e, int k, double* scratch) const {
+  RuleCache& c = rules_[k];
+  const size_t per = static_cast<size_t>(kFields) * k * k;
+  std::call_once(c.once, [&] {
+    c.blocks.reset(new double[static_cast<size_t>(m_) * per]);  // pages touched when filled
+    c.state.reset(new std::atomic<uint8_t>[m_]());
   });
-  return rules_[k].data();
-}
-
-template <bool kStress>
-void InteriorEvaluator::piece_rule(const double* x, const double* u0, int64_t e,
-                                   const Piece& p, int k, double* acc) const {
-  double blk[kFields * kMaxQ];
-  fill(e, p, ref_[k], blk);
-  accumulate<kStress>(blk, k * k, x, u0, G_, nu_, acc);
+  double* blk = c.blocks.get() + e * per;
+  uint8_t s = c.state[e].load(std::memory_order_acquire);
+  if (s == 2) return blk;
+  const Piece whole{{0, 0}, {1, 0, 0, 1}};
+  if (s == 0 && c.state[e].compare_exchange_strong(s, 1, std::memory_order_acquire)) {
+    fill(e, whole, ref_[k], blk);
+    c.state[e].store(2, std::memory_order_release);
+    return blk;
+  }
+  fill(e, whole, ref_[k], scratch);
+  return scratch;
 }
 
 // Piece p of element e at quadtree level `level`: integrated if its order is
 // at most max_order (or at the deepest level), else cut into four.
 template <bool kStress>
 void InteriorEvaluator::quadtree(const double* x, const double* u0, int64_t e, const Piece& p,
-                                 int level, double* acc) const {
+                                 int level, double* acc, double* scratch) const {
   const int S = n_samples_;
   double ys[9 * 3];
   double dmin2 = std::numeric_limits<double>::infinity();
@@ -304,11 +305,12 @@ void InteriorEvaluator::quadtree(const double* x, const double* u0, int64_t e, c
   const int k = order(std::sqrt(dmin2) - kSafety * size, size);
   if (k <= max_order_ || level == max_level_) {
     const int kk = std::min(k, max_order_);
+    const double* blk = scratch;
     if (level == 0)  // the whole element: its shared rule
-      accumulate<kStress>(element_rule(kk) + e * kFields * kk * kk, kk * kk, x, u0, G_, nu_,
-                          acc);
+      blk = element_rule(e, kk, scratch);
     else
-      piece_rule<kStress>(x, u0, e, p, kk, acc);
+      fill(e, p, ref_[kk], scratch);
+    accumulate<kStress>(blk, kk * kk, x, u0, G_, nu_, acc);
     return;
   }
   // the four children as affine maps c + B xi_ref of the reference cell
@@ -321,7 +323,7 @@ void InteriorEvaluator::quadtree(const double* x, const double* u0, int64_t e, c
       ch.c[0] = p.c[0] + p.B[0] * cs[i][0] + p.B[1] * cs[i][1];
       ch.c[1] = p.c[1] + p.B[2] * cs[i][0] + p.B[3] * cs[i][1];
       for (int j = 0; j < 4; ++j) ch.B[j] = p.B[j] * sgn;
-      quadtree<kStress>(x, u0, e, ch, level + 1, acc);
+      quadtree<kStress>(x, u0, e, ch, level + 1, acc, scratch);
     }
   } else {
     for (int sx = -1; sx <= 1; sx += 2)
@@ -330,7 +332,7 @@ void InteriorEvaluator::quadtree(const double* x, const double* u0, int64_t e, c
         ch.c[0] = p.c[0] + h * (p.B[0] * sx + p.B[1] * sy);
         ch.c[1] = p.c[1] + h * (p.B[2] * sx + p.B[3] * sy);
         for (int j = 0; j < 4; ++j) ch.B[j] = p.B[j] * h;
-        quadtree<kStress>(x, u0, e, ch, level + 1, acc);
+        quadtree<kStress>(x, u0, e, ch, level + 1, acc, scratch);
       }
   }
 }
@@ -343,6 +345,7 @@ template <bool kStress>
 void InteriorEvaluator::batch(const double* X, const int64_t* element, const double* xi, int nb,
                               double* out) const {
   double u0[kBatch][3], acc[kBatch][6] = {};
+  double scratch[kFields * kMaxQ];  // a piece's rule, or an element's being filled elsewhere
   for (int b = 0; b < nb; ++b) {
     double y[3], F[6];
     map(element[b], xi[2 * b], xi[2 * b + 1], y, nullptr, F);
@@ -357,10 +360,9 @@ void InteriorEvaluator::batch(const double* X, const int64_t* element, const dou
       int k = kMinOrder;
       while (k <= max_order_ && r2 < f[4 + k - kMinOrder]) ++k;
       if (k <= max_order_)
-        accumulate<kStress>(element_rule(k) + e * kFields * k * k, k * k, x, u0[b], G_, nu_,
-                            acc[b]);
+        accumulate<kStress>(element_rule(e, k, scratch), k * k, x, u0[b], G_, nu_, acc[b]);
       else
-        quadtree<kStress>(x, u0[b], e, whole, 0, acc[b]);
+        quadtree<kStress>(x, u0[b], e, whole, 0, acc[b], scratch);
     }
   }
   const double c0 = 1.0 / (8.0 * M_PI * (1.0 - nu_));

@@ -9,7 +9,9 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 #include <vector>
 
@@ -58,17 +60,14 @@ class InteriorEvaluator {
   Candidate project(int64_t e, const double* x) const;
   void map(int64_t e, double xi, double eta, double* y, double* nJ, double* F) const;
   int order(double d, double size) const;
-  const double* element_rule(int k) const;
+  const double* element_rule(int64_t e, int k, double* scratch) const;
   void fill(int64_t e, const Piece& p, const Rule2D& r, double* block) const;
   template <bool kStress>
   void batch(const double* X, const int64_t* element, const double* xi, int nb,
              double* out) const;
   template <bool kStress>
   void quadtree(const double* x, const double* u0, int64_t e, const Piece& p, int level,
-                double* acc) const;
-  template <bool kStress>
-  void piece_rule(const double* x, const double* u0, int64_t e, const Piece& p, int k,
-                  double* acc) const;
+                double* acc, double* scratch) const;
 
   int type_, k_, n_samples_;
   int64_t m_;
@@ -84,9 +83,15 @@ class InteriorEvaluator {
   std::vector<double> size_;      // m
   std::vector<double> far_;       // per element: centre (3), radius, then (r + beta_k size / 2)^2
   int far_stride_;
-  // whole-element rules, built on first use: per element kFields rows of k^2
-  mutable std::array<std::once_flag, kMaxInteriorOrder + 1> once_;
-  mutable std::array<std::vector<double>, kMaxInteriorOrder + 1> rules_;
+  // The whole-element rule of order k: per element a block of kFields rows of
+  // k^2 points, each filled when a point first needs it (the high orders only
+  // near the points).  state: 0 empty, 1 being filled, 2 filled.
+  struct RuleCache {
+    std::once_flag once;
+    std::unique_ptr<double[]> blocks;
+    std::unique_ptr<std::atomic<uint8_t>[]> state;
+  };
+  mutable std::array<RuleCache, kMaxInteriorOrder + 1> rules_;
 };
 
 }  // namespace bemcontact
