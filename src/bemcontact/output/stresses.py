@@ -54,13 +54,26 @@ def stem(f: StressField) -> str:
     return f"stresses_{f.request.body}_{f.request.label}"
 
 
+def _figures(fields: list[StressField], options) -> list[tuple[str, list[StressField]]]:
+    """(file name, its fields): one figure per asked-for field, or per body
+    for the default probes (section 1 with the depth profile beside it)."""
+    if not options.figures:
+        return []
+    if options.stresses:
+        return [(f"{stem(f)}.png", [f]) for f in fields]
+    bodies: dict[str, list[StressField]] = {}
+    for f in fields:
+        bodies.setdefault(f.request.body, []).append(f)
+    return [(f"stresses_{b}.png", [f for f in fs if f.request.label in ("section1", "profile")])
+            for b, fs in bodies.items()]
+
+
 def file_names(fields: list[StressField], options) -> list[str]:
     out = []
     for f in fields:
         out += [f"{stem(f)}.csv"] if options.csv else []
         out += [f"{stem(f)}.vtu"] if options.vtu else []
-        out += [f"{stem(f)}.png"] if options.figures else []
-    return out
+    return out + [name for name, _ in _figures(fields, options)]
 
 
 def stress_summary(result, fields: list[StressField], skipped: list[str]) -> dict:
@@ -87,8 +100,8 @@ def write_stress_files(directory: pathlib.Path, fields: list[StressField],
             write_vtu(base.with_suffix(".vtu"), f.points, _cells(f.lattice.shape),
                       {"stress": f.stresses, "von_mises": f.von_mises, "tresca": f.tresca,
                        "principal": f.principal})
-        if options.figures:
-            _figure(base.with_suffix(".png"), f, units or {})
+    for name, group in _figures(fields, options):
+        _figure(directory / name, group, units or {})
 
 
 def _cells(shape: tuple[int, ...]):
@@ -109,7 +122,10 @@ def _cells(shape: tuple[int, ...]):
     return [("vertex", idx.reshape(-1, 1))]
 
 
-def _figure(path: pathlib.Path, f: StressField, units) -> None:
+def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
+    """A plane's von Mises map and a line's stresses against its distance,
+    side by side when both are given (a section and its depth profile,
+    sharing the depth axis)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -118,45 +134,62 @@ def _figure(path: pathlib.Path, f: StressField, units) -> None:
     from .plot import save_png
 
     stress, length = units.get("stress", ""), units.get("length", "")
-    su = f" [{stress}]" if stress else ""
-    lu = f" [{length}]" if length else ""
-    lat = f.lattice
-    vm = f.von_mises
-    title = f"{f.request.body}: {f.request.label} ({f.request.kind})"
-    dims = [k for k, s in enumerate(lat.shape) if s > 1]
-    if len(dims) == 1:
-        k = dims[0]
-        x = lat.coordinates[k]
-        fig, ax = plt.subplots(figsize=(6.4, 4.6), constrained_layout=True)
-        for j, name in enumerate(("σxx", "σyy", "σzz", "σxy", "σyz", "σxz")):
-            ax.plot(x, f.stresses.reshape(-1, 6)[:, j], lw=1.2, label=name)
-        ax.plot(x, vm, "k", lw=2.0, label="von Mises")
-        ax.plot(x, f.tresca, "k--", lw=1.5, label="Tresca")
-        ax.axhline(0.0, color="0.6", lw=0.6)
-        ax.set_xlabel(f"{lat.names[k]}{lu}")
-        ax.set_ylabel(f"stress{su}")
-        ax.legend(ncol=2, fontsize=8)
-    else:
-        a, b = dims[:2]
-        X, Y = np.meshgrid(lat.coordinates[a], lat.coordinates[b], indexing="ij")
-        V = vm.reshape([lat.shape[d] for d in dims] if len(dims) == 2 else lat.shape)
+    su, lu = (f" [{stress}]" if stress else ""), (f" [{length}]" if length else "")
+    planes = [f for f in fields if sum(n > 1 for n in f.lattice.shape) >= 2]
+    lines = [f for f in fields if sum(n > 1 for n in f.lattice.shape) == 1]
+    both = bool(planes and lines)
+    fig, axes = plt.subplots(1, len(planes[:1]) + len(lines[:1]), squeeze=False,
+                             figsize=(11.5 if both else 6.8, 4.8), constrained_layout=True,
+                             sharey=both, gridspec_kw={"width_ratios": [2, 1]} if both else None)
+    axes = list(axes[0])
+    if planes:
+        f = planes[0]
+        ax = axes.pop(0)
+        lat = f.lattice
+        dims = [k for k, n in enumerate(lat.shape) if n > 1][:2]
+        vm = f.von_mises
+        V = vm.reshape(lat.shape)
         if V.ndim == 3:  # a box: the middle slice across its last direction
-            V = V[:, :, V.shape[2] // 2]
-        fig, ax = plt.subplots(figsize=(6.8, 4.8), constrained_layout=True)
-        depth_down = lat.names[b] == "depth"
+            V = np.take(V, V.shape[2] // 2, axis=2) if lat.shape[2] > 1 else V[:, :, 0]
+        V = V.reshape([lat.shape[k] for k in dims])
+        a, b = dims
+        X, Y = np.meshgrid(lat.coordinates[a], lat.coordinates[b], indexing="ij")
         m = ax.contourf(X, Y, V, levels=20, cmap="magma_r")
-        fig.colorbar(m, ax=ax, label=f"von Mises{su}")
+        fig.colorbar(m, ax=ax, label=f"von Mises{su}", location="left" if both else "right")
         k = int(np.argmax(vm))
         idx = np.unravel_index(k, lat.shape)
         ax.plot(lat.coordinates[a][idx[a]], lat.coordinates[b][idx[b]], "c+", ms=14, mew=2,
                 label=f"max {vm[k]:.4g}{' ' + stress if stress else ''}")
         ax.legend(loc="lower right", fontsize=8)
-        if depth_down:
+        if lat.names[b] == "depth":
             ax.invert_yaxis()
         ax.set_xlabel(f"{lat.names[a]}{lu}")
         ax.set_ylabel(f"{lat.names[b]}{lu}")
         ax.set_aspect("equal")
-    ax.set_title(title)
+        ax.set_title(f"{f.request.body}: von Mises on {f.request.label}")
+    if lines:
+        f = lines[0]
+        ax = axes.pop(0)
+        k = [k for k, n in enumerate(f.lattice.shape) if n > 1][0]
+        x = f.lattice.coordinates[k]
+        curves = [(f.stresses[:, j], name, "-", 1.2) for j, name in
+                  enumerate(("σxx", "σyy", "σzz", "σxy", "σyz", "σxz"))]
+        curves += [(f.von_mises, "von Mises", "k-", 2.0), (f.tresca, "Tresca", "k--", 1.5)]
+        for values, name, style, lw in curves:
+            if both:  # the depth profile: depth down the shared vertical axis
+                ax.plot(values, x, style, lw=lw, label=name)
+            else:
+                ax.plot(x, values, style, lw=lw, label=name)
+        if both:
+            ax.axvline(0.0, color="0.6", lw=0.6)
+            ax.set_xlabel(f"stress{su}")
+            ax.set_title(f"{f.request.body}: {f.request.label}")
+        else:
+            ax.axhline(0.0, color="0.6", lw=0.6)
+            ax.set_xlabel(f"{f.lattice.names[k]}{lu}")
+            ax.set_ylabel(f"stress{su}")
+            ax.set_title(f"{f.request.body}: {f.request.label} ({f.request.kind})")
+        ax.legend(ncol=2, fontsize=8)
     save_png(fig, path)
     plt.close(fig)
 

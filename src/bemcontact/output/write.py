@@ -105,7 +105,7 @@ class OutputOptions:
     default_stresses: bool = setting(Key(
         "default_stresses", "boolean", "without `[[output.stresses]]`: the stresses on a depth "
         "profile under the peak pressure and on the two planes through it, in each body the "
-        "contact is small against", default=False))
+        "contact is small against", default=True))
     #: the ``[[output.stresses]]`` requests (:class:`~bemcontact.stresses.StressRequest`)
     stresses: tuple = ()
 

@@ -9,7 +9,9 @@ compared with the body (the body's smallest bounding-box extent at least
   (:data:`PROFILE_POINTS` points);
 * ``section1`` and ``section2``: the two planes through the normal, the first
   along the tangential force (or the frame's first tangent when there is
-  none), −2a ≤ u ≤ 2a, from the same depths (:data:`SECTION_POINTS`).
+  none), −2a ≤ u ≤ 2a, from the same depths (:data:`SECTION_POINTS`; on the
+  multiscale path along the grid's axes, the one nearer the tangential force
+  first, at every cell centre).
 
 The points follow the body's surface: a point at depth d below the surface
 point above (u, v) is c + u e_u + v e_v + (h(u, v) + d) n, with n the body's
@@ -52,7 +54,9 @@ def _contacts(result) -> list[dict]:
         A = result.axes
         closed = float(np.sum(st.p[:, 2] > 0.0)) * result.grid.cell_area
         f = st.force[:2]
-        t = (f / np.hypot(*f)) @ A[:2] if np.hypot(*f) > 1e-9 * abs(st.force[2]) else A[0]
+        # the sections along the grid's axes (their points then lie below
+        # cell centres: FFT layers), the first the nearer the tangential force
+        t = A[1] if abs(f[1]) > abs(f[0]) else A[0]
         c = result.points[k]
         cl = (c - result.origin) @ A.T
 
@@ -66,7 +70,7 @@ def _contacts(result) -> list[dict]:
             return h
         return [{"names": result.names, "bodies": [c.body for c in result.corrections],
                  "centre": c, "normal": A[2], "tangent": t, "radius": np.sqrt(closed / np.pi),
-                 "heights": [height(0), height(1)]}]
+                 "heights": [height(0), height(1)], "cells": (result.grid, k, A)}]
     if not isinstance(result, ContactResult):
         return []
     models = result.models
@@ -111,6 +115,17 @@ def _contacts(result) -> list[dict]:
     return out
 
 
+def _cells(grid, k: int, axes: np.ndarray, e_u: np.ndarray):
+    """Along ``e_u`` (± one of the grid's axes) from cell ``k``: the cell
+    size and the range of whole cells, in steps along ``e_u``, to the grid's
+    edges."""
+    i, j = divmod(k, grid.ny)
+    d = axes[:2] @ e_u
+    a = int(np.argmax(np.abs(d)))
+    step, first, last = ((grid.dx, -i, grid.nx - 1 - i), (grid.dy, -j, grid.ny - 1 - j))[a]
+    return (step, first, last) if d[a] > 0 else (step, -last, -first)
+
+
 def _extent(body) -> float:
     if body is None:
         return 0.0
@@ -148,16 +163,22 @@ def default_requests(result) -> tuple[list[tuple[StressRequest, Lattice]], list[
                                       "profile"),
                         Lattice(pts, (PROFILE_POINTS,), (depth,), ("depth",))))
             for k, e_u in enumerate((t, np.cross(n_in, t)), start=1):
-                u = np.linspace(-HALF_WIDTH * a, HALF_WIDTH * a, SECTION_POINTS[0])
+                if "cells" in info:  # the grid: below cell centres, within the grid
+                    step, lo, hi = _cells(*info["cells"], e_u)
+                    m = int(HALF_WIDTH * a / step)
+                    u = step * np.arange(max(-m, lo), min(m, hi) + 1)
+                else:
+                    u = np.linspace(-HALF_WIDTH * a, HALF_WIDTH * a, SECTION_POINTS[0])
                 d = np.linspace(d0, d1, SECTION_POINTS[1])
                 U, D = np.meshgrid(u, d, indexing="ij")
                 uv = np.column_stack([U.ravel(), np.zeros(U.size)])
                 hh = h(uv, e_u, np.cross(n_in, e_u))
                 P = c + U.reshape(-1, 1) * e_u + (hh + D.ravel())[:, None] * n_in
+                shape = (u.size, d.size)
                 plane = Plane(tuple(c + (h0 + 0.5 * (d0 + d1)) * n_in), tuple(np.cross(e_u, n_in)),
-                              (2.0 * HALF_WIDTH * a, d1 - d0), SECTION_POINTS, tuple(e_u))
+                              (float(u[-1] - u[0]), d1 - d0), shape, tuple(e_u))
                 out.append((StressRequest(name, plane, f"section{k}"),
-                            Lattice(P, SECTION_POINTS, (u, d), ("u", "depth"))))
+                            Lattice(P, shape, (u, d), ("u", "depth"))))
     return out, skipped
 
 

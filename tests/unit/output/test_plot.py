@@ -210,7 +210,8 @@ def test_written_figures_carry_the_problem_files_units(sphere, tmp_path):
 
     echo = {"file": "p.toml", "units": {"length": "mm", "force": "N", "stress": "MPa"}}
     files = io.write_results(sphere, tmp_path / "o", echo,
-                             io.OutputOptions(vtu=False, csv=False, figures=True))
+                             io.OutputOptions(vtu=False, csv=False, figures=True,
+                                              default_stresses=False))
     assert [f.name for f in files] == ["summary.json", "frame_tractions.png", "frame_profile.png"]
     with Image.open(files[1]) as a, Image.open(files[2]) as b:
         assert a.size == (1560, 690) and b.size == (1500, 600)
