@@ -184,6 +184,15 @@ def test_hertz_sphere_on_block_problem_file(tmp_path):
     # the frame's normal is z (frame on the flat block): the resultant of the
     # frame pressures is the normal force (flat interface, see docs)
     assert np.sum(f["weight"] * f["pressure"]) == pytest.approx(P, rel=1e-9)
+    # the default stresses: the block's largest Tresca stress on its depth
+    # profile is Johnson's 0.310 p0 at 0.481a within 1.5 % and 0.03a
+    # (docs/validation.md: 0.3087 p0 at 0.478a at this h)
+    prof = next(x for x in s["stresses"]["fields"]
+                if x["body"] == "block" and x["label"] == "profile")
+    tau = prof["maximum"]["tresca"]
+    assert tau["value"] == pytest.approx(0.3100 * h.peak_pressure, rel=0.015)
+    assert abs(-tau["point"][2] - 0.4809 * h.contact_radius) < 0.03 * h.contact_radius
+    assert (out / "stresses_block.png").is_file() and (out / "stresses_sphere.png").is_file()
 
 
 def test_thrust_bearing_ball_assembly(tmp_path):
