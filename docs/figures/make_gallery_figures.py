@@ -8,9 +8,10 @@ example problem file solved as the command solves it (ProblemFile.solve and
   examples/two_cubes_dissimilar.toml (about 2 s).
 * ``gallery_block_frame.png``: frame_tractions.png of
   examples/block_from_mesh_file.toml (about 5 s).
-* ``gallery_hertz_frame.png``, ``gallery_hertz_profile.png``:
-  frame_tractions.png and frame_profile.png of
-  examples/hertz_sphere_on_block.toml (needs gmsh; about 30 s).
+* ``gallery_hertz_frame.png``, ``gallery_hertz_profile.png``,
+  ``gallery_hertz_stresses.png``: frame_tractions.png, frame_profile.png and
+  the block's stresses_block.png of examples/hertz_sphere_on_block.toml
+  (needs gmsh; about 30 s).
 * ``gallery_bearing_profile.png``: the upper pair's
   ``ball+upper_frame_profile.png`` of examples/thrust_bearing_ball.toml, an
   assembly (needs gmsh; about 40 s).
@@ -38,7 +39,8 @@ GALLERY = {
                   {"frame_tractions.png": "gallery_two_cubes_frame.png"}),
     "block": ("block_from_mesh_file.toml", {"frame_tractions.png": "gallery_block_frame.png"}),
     "hertz": ("hertz_sphere_on_block.toml", {"frame_tractions.png": "gallery_hertz_frame.png",
-                                             "frame_profile.png": "gallery_hertz_profile.png"}),
+                                             "frame_profile.png": "gallery_hertz_profile.png",
+                                             "stresses_block.png": "gallery_hertz_stresses.png"}),
     "bearing": ("thrust_bearing_ball.toml",
                 {"ball+upper_frame_profile.png": "gallery_bearing_profile.png"}),
 }
