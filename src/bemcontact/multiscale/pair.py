@@ -51,12 +51,7 @@ from .correction import BodyCorrection
 from .interface import GridInterface
 from .operator import PairOperator
 from .stress import grid_stresses, grid_surface_stresses
-from .surface import quartic_terms
-
-#: Nodes of each contact surface the quartic fit uses (the nearest to the
-#: contact point, at least): 15 coefficients, so the fit is overdetermined.
-FIT_NODES = 60
-
+from .surface import contact_spacing, element_size, quartic_terms, region_nodes, surface_fit
 
 @dataclass(frozen=True)
 class GridOptions:
@@ -75,6 +70,11 @@ class GridOptions:
     anchors: int = setting(Key(
         "anchors", "integer", "Chebyshev sources per direction of each body's correction",
         default=3, lo=2, hi=8))
+    resolved: float | None = setting(Key(
+        "resolved", "number", "stop after the sizing pass (a ConfigError saying so) when both "
+        "bodies' meshes have at least this many elements per contact half-width at the "
+        "contact: they resolve it, the full path solves it as meshed (method = \"auto\")",
+        default=None, lo=0, lo_open=True))
 
     def __post_init__(self) -> None:
         check_settings(self)
@@ -173,17 +173,12 @@ class GridResult:
         }
 
 
-def _region_nodes(body, region: str) -> np.ndarray:
-    d = body.discretization
-    return np.flatnonzero(d.region == body.mesh.region_names.index(region))
-
-
 def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
     """(origin (3,), axes (3, 3) rows t1, t2, n): the midpoint of the two
     contact surfaces' closest nodes and body 1's normal there (from body 1
     into body 2), which must lie along a coordinate axis."""
-    P1 = b1.discretization.points[_region_nodes(b1, s1)]
-    P2 = b2.discretization.points[_region_nodes(b2, s2)]
+    P1 = b1.discretization.points[region_nodes(b1, s1)]
+    P2 = b2.discretization.points[region_nodes(b2, s2)]
     dist, j = scipy.spatial.cKDTree(P2).query(P1)
     i = int(np.argmin(dist))
     x0 = 0.5 * (P1[i] + P2[j[i]])
@@ -208,30 +203,6 @@ def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
     t1 = e[(k + 1) % 3]
     t2 = np.cross(normal, t1)
     return x0, np.array([t1, t2, normal])
-
-
-def surface_fit(body, region: str, origin, axes, radius: float | None = None):
-    """The quartic ζ(ξ, η) fitted to the nodes of ``region`` nearest to
-    ``origin`` in the frame (ξ, η, ζ); returns (coefficients, the fit's
-    radius, its rms residual)."""
-    P = (body.discretization.points[_region_nodes(body, region)] - origin) @ axes.T
-    r = np.hypot(P[:, 0], P[:, 1])
-    order = np.argsort(r)
-    take = order[: max(FIT_NODES, int(np.sum(r <= radius)) if radius else 0)]
-    if take.size < 20:
-        raise ConfigError(f"{body.name}: the contact surface {region!r} has {take.size} nodes "
-                          "near the contact point: too few to fit its shape (at least 20)")
-    V = quartic_terms(P[take, 0], P[take, 1])
-    coef, *_ = np.linalg.lstsq(V, P[take, 2], rcond=None)
-    resid = float(np.sqrt(np.mean((V @ coef - P[take, 2]) ** 2)))
-    return coef, float(r[take].max()), resid
-
-
-def _spacing(body, region: str, origin) -> float:
-    """The distance from ``origin`` to the 8th nearest node of ``region``."""
-    P = body.discretization.points[_region_nodes(body, region)]
-    d = np.sort(np.linalg.norm(P - origin, axis=1))
-    return float(d[min(7, d.size - 1)])
 
 
 def _poly(coef, xy) -> float:
@@ -370,15 +341,15 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
     # sphere's apex above a coarse block's node): the gap of the fitted
     # surfaces is minimized, and the fits are made again about its minimum
     for _ in range(3):
-        c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * _spacing(b1, s1, origin))
-        c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * _spacing(b2, s2, origin))
+        c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
+        c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
         xy = _gap_minimum(c2 - c1, 0.8 * min(r1, r2))
         moved = xy @ axes[:2] + 0.5 * (_poly(c1, xy) + _poly(c2, xy)) * axes[2]
         origin = origin + moved
         if np.linalg.norm(xy) <= 1e-9 * min(r1, r2):
             break
-    c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * _spacing(b1, s1, origin))
-    c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * _spacing(b2, s2, origin))
+    c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
+    c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
     targets = [_targets(_supports(b1, st[0]), _supports(b2, st[1]), axes) for st in states]
     fit_radius = min(r1, r2)
     m1, m2 = b1.material, b2.material
@@ -455,9 +426,17 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             continue
         break
     if half is None:
-        raise ConfigError("method = \"multiscale\": no contact zone found on the grid (the "
-                          "bodies do not touch under these loads?)",
+        raise ConfigError("method = \"multiscale\": no bounded contact zone found on the grid "
+                          "(the bodies do not touch under these loads, or their contact is not "
+                          "concentrated: flat on flat, or conforming)",
                           location={"field": "contact.method"})
+    if opt.resolved is not None:
+        r = 1.2 * float(np.hypot(*half))
+        size = max(element_size(b1, s1, origin, axes, r), element_size(b2, s2, origin, axes, r))
+        if float(half.min()) >= opt.resolved * size:
+            raise ConfigError(f"the meshes resolve the contact ({half.min() / size:.1f} elements "
+                              f"per contact half-width, >= {opt.resolved:g})",
+                              location={"field": "contact.method"})
     cell = opt.grid_size or float(half.min()) / opt.cells_per_radius
     margin = opt.margin
     t1 = t2 = time.perf_counter()
@@ -585,4 +564,4 @@ def _state(gi: GridInterface, label: str, target) -> GridState:
 
 
 __all__ = ["LIMITS", "GridOptions", "GridResult", "GridState", "applicability", "contact_plane",
-           "solve_on_grid", "surface_fit"]
+           "solve_on_grid"]

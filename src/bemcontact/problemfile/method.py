@@ -1,13 +1,20 @@
 """How a pair's ``method`` is followed: the contact grid for
-``"multiscale"``, and for ``"auto"`` where it applies (its applicability
-checks: :func:`~bemcontact.multiscale.pair.applicability`), else the full
-path, said in one line."""
+``"multiscale"``; for ``"auto"`` the full path when the bodies' meshes
+already resolve the contact (at least :data:`RESOLVED` elements per contact
+half-width, found by the grid's sizing pass: the problem is solved as
+meshed), else the grid where it applies (its applicability checks:
+:func:`~bemcontact.multiscale.pair.applicability`), else the full path; the
+choice said in one line."""
 
 from __future__ import annotations
 
 from ..contact import LoadStep, SolverOptions
 from ..errors import ConfigError, ConvergenceError
-from ..multiscale.pair import applicability, solve_on_grid
+from ..multiscale.pair import GridOptions, applicability, solve_on_grid
+
+#: ``"auto"`` solves a contact as meshed (the full path) when both bodies have
+#: at least this many elements per contact half-width at the contact.
+RESOLVED = 4.0
 
 
 def on_grid(problem, steps, method: str, options: SolverOptions):
@@ -16,8 +23,10 @@ def on_grid(problem, steps, method: str, options: SolverOptions):
     which path solved it and why) for the two-body ``problem`` (a
     :class:`~bemcontact.contact.ContactProblem`) and its load ``steps``."""
     steps = steps or (LoadStep(increments=options.load_steps),)
+    grid = GridOptions(grid_size=problem.pairs[0].grid_size,
+                       resolved=RESOLVED if method == "auto" else None)
     try:
-        result = solve_on_grid(problem, steps, solver=options)
+        result = solve_on_grid(problem, steps, grid, solver=options)
     except (ConfigError, ConvergenceError) as exc:
         if method == "multiscale":
             raise
@@ -35,4 +44,4 @@ def on_grid(problem, steps, method: str, options: SolverOptions):
     return result, note
 
 
-__all__ = ["on_grid"]
+__all__ = ["RESOLVED", "on_grid"]

@@ -148,6 +148,29 @@ def test_auto_sends_a_thin_layer_and_an_edge_to_the_full_path(thickness, offset,
     assert note.startswith('contact.method = "auto": the full path (') and reason in note
 
 
+def test_auto_solves_resolved_meshes_as_meshed_and_coarse_ones_on_the_grid():
+    """``method = "auto"`` (the default): the Hertz example's meshes (0.1 mm
+    at the contact, 4.7 element diameters per contact half-width) resolve
+    the contact, so the full path solves it as meshed, decided by the grid's
+    sizing pass alone; the same bodies meshed at 0.5 mm (one element per
+    half-width) go to the grid. Two cubes touching over a whole face have no
+    bounded contact zone: the full path, said so."""
+    fine = cases.sphere_on_block(0.1, 0.03, friction_coefficient=0.0)
+    result, note = on_grid(fine, (), "auto", SolverOptions())
+    assert result is None and "the meshes resolve the contact (4.7 elements" in note
+    result, note = on_grid(coarse_sphere_on_block(), (), "auto", SolverOptions())
+    assert result is not None and note.startswith('contact.method = "auto": the contact grid')
+    from bemcontact.mesh import box
+
+    lower = ElasticBody(box((0, 0, 0), (2, 2, 2), 3), STEEL,
+                        {"zmin": Displacement((0, 0, 0))}, name="lower")
+    upper = ElasticBody(box((0, 0, 2), (2, 2, 4), 3), STEEL,
+                        {"zmax": Displacement((0, 0, -0.01))}, name="upper")
+    cubes = ContactProblem(lower, upper, ContactPair("zmax", "zmin"))
+    result, note = on_grid(cubes, (), "auto", SolverOptions())
+    assert result is None and "not concentrated" in note
+
+
 def test_a_floating_body_is_refused():
     """A sphere held by nothing in x and y (its base pushed in z only) has a
     singular correction problem: refused in one line naming it."""
