@@ -38,6 +38,7 @@ constexpr int kBatch = 8;
 // displacement (3), both without the common factor 1 / (8 pi (1 - nu)).
 // Stress, with r = y - x, d = r / |r|, n = n J w, u = u - u0, b = 1 - 2 nu:
 //   sigma_ij += A d_i d_j + v_i d_j + v_j d_i - 2G b / |r|^3 (n_j u_i + n_i u_j) + C delta_ij
+//   (v_i = J w b t_i / |r|^2 - 6 nu G / |r|^3 (dn u_i + du n_i), dn = d . n, du = d . u)
 // (the D t - S u of the docstring, its terms collected).  Displacement:
 //   u_i += U*_ij t_j - T*_ij u_j.
 template <bool kStress>
@@ -59,10 +60,10 @@ inline void accumulate(const double* blk, int Q, const double* x, const double* 
   const double x0 = x[0], x1 = x[1], x2 = x[2];
   const double v0 = u0[0], v1 = u0[1], v2 = u0[2];
   const double b = 1.0 - 2.0 * nu;
-  double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0;
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0, s4 = 0, s5 = 0, sc = 0;
   if constexpr (kStress) {
     const double g2 = 2.0 * G, c4 = 1.0 - 4.0 * nu;
-#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5)
+#pragma omp simd reduction(+ : s0, s1, s2, s3, s4, s5, sc)
     for (int q = 0; q < Q; ++q) {
       const double r0 = y0[q] - x0, r1 = y1[q] - x1, r2 = y2[q] - x2;
       const double ir = 1.0 / std::sqrt(r0 * r0 + r1 * r1 + r2 * r2);
@@ -77,20 +78,24 @@ inline void accumulate(const double* blk, int Q, const double* x, const double* 
       const double A = 3.0 * cd * dt + cs * (15.0 * dn * du - 3.0 * b * nu_);
       const double C = -cd * b * dt - cs * (3.0 * b * dn * du - c4 * nu_);
       const double Bn = -cs * b;
-      const double cdb = cd * b, csn = 3.0 * nu * cs;
-      const double w0 = cdb * t0[q] - csn * (dn * u0q + du * n0[q]);
-      const double w1 = cdb * t1[q] - csn * (dn * u1q + du * n1[q]);
-      const double w2 = cdb * t2[q] - csn * (dn * u2q + du * n2[q]);
-      s0 += A * d0 * d0 + 2.0 * (w0 * d0 + Bn * n0[q] * u0q) + C;
-      s1 += A * d1 * d1 + 2.0 * (w1 * d1 + Bn * n1[q] * u1q) + C;
-      s2 += A * d2 * d2 + 2.0 * (w2 * d2 + Bn * n2[q] * u2q) + C;
-      s3 += A * d0 * d1 + w0 * d1 + w1 * d0 + Bn * (n1[q] * u0q + n0[q] * u1q);
-      s4 += A * d1 * d2 + w1 * d2 + w2 * d1 + Bn * (n2[q] * u1q + n1[q] * u2q);
-      s5 += A * d0 * d2 + w0 * d2 + w2 * d0 + Bn * (n2[q] * u0q + n0[q] * u2q);
+      const double cdb = cd * b, csn = 3.0 * nu * cs, hA = 0.5 * A;
+      // sigma_ij = p_i d_j + p_j d_i + m_i u_j + m_j u_i + C delta_ij,
+      // p = A/2 d + v, m = -2G b / |r|^3 n
+      const double p0 = hA * d0 + cdb * t0[q] - csn * (dn * u0q + du * n0[q]);
+      const double p1 = hA * d1 + cdb * t1[q] - csn * (dn * u1q + du * n1[q]);
+      const double p2 = hA * d2 + cdb * t2[q] - csn * (dn * u2q + du * n2[q]);
+      const double m0 = Bn * n0[q], m1 = Bn * n1[q], m2 = Bn * n2[q];
+      s0 += p0 * d0 + m0 * u0q;  // half the diagonal, less C
+      s1 += p1 * d1 + m1 * u1q;
+      s2 += p2 * d2 + m2 * u2q;
+      sc += C;
+      s3 += p0 * d1 + p1 * d0 + m0 * u1q + m1 * u0q;
+      s4 += p1 * d2 + p2 * d1 + m1 * u2q + m2 * u1q;
+      s5 += p0 * d2 + p2 * d0 + m0 * u2q + m2 * u0q;
     }
-    acc[0] += s0;
-    acc[1] += s1;
-    acc[2] += s2;
+    acc[0] += 2.0 * s0 + sc;
+    acc[1] += 2.0 * s1 + sc;
+    acc[2] += 2.0 * s2 + sc;
     acc[3] += s3;
     acc[4] += s4;
     acc[5] += s5;
