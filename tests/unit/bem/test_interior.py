@@ -17,6 +17,9 @@ interior stress against Kelvin's, its error falling under refinement.
 two forms against each other (the stress of the differentiated displacement
 form is the stress form).
 (d) Bad input raises ConfigError naming the point.
+(e) A point's fields do not depend on the other points of the call (the
+compiled evaluator takes points in batches that share the elements' rules,
+filled on first use, on several threads).
 """
 
 from __future__ import annotations
@@ -212,3 +215,20 @@ def test_bad_arguments():
         interior_stresses(sol, P, MAT, tolerance=0.0)
     with pytest.raises(bc.ConfigError, match=r"min_depth must lie in \(0, 1\)"):
         interior_stresses(sol, P, MAT, min_depth=0)
+
+
+# ---------------------------------------------------------------- (e) batches
+
+def test_a_points_fields_do_not_depend_on_the_other_points():
+    sol = kelvin_solution(4)
+    rng = np.random.default_rng(7)
+    P = np.vstack([rng.uniform(0.05, 0.95, (40, 3)), near_surface_points(1 / 4, 0.1),
+                   near_surface_points(1 / 4, 0.02)])
+    for f in (interior_stresses, interior_displacements):
+        together = f(sol, P, MAT)
+        alone = np.vstack([f(sol, P[i:i + 1], MAT) for i in range(len(P))])
+        reversed_ = f(sol, P[::-1], MAT)[::-1]
+        scale = np.abs(together).max()
+        # the same rules and sums point by point: equal but for round-off
+        assert np.abs(alone - together).max() <= 1e-13 * scale
+        assert np.abs(reversed_ - together).max() <= 1e-13 * scale
