@@ -56,10 +56,11 @@ from ..linalg.threads import available_cores
 from ..output import write_summary
 from ..problemfile import load_problem
 from ..problemfile.checks import Checker, a_type, one_line
+from ..problemfile.method import on_grid
 from ..settings import Key, check_settings, setting
 from .cache import BodyCache
 from .points import Point, check_points, parse_values, points_of
-from .table import outputs, write_figure, write_table
+from .table import grid_outputs, outputs, write_figure, write_table
 
 #: The install command named when Dask is missing.
 INSTALL = 'pip install "bemcontact[sweep]"'
@@ -430,6 +431,16 @@ def run_point(point_file: str, out_dir: str, group: str, cache_dir: str,
             pf = load_problem(point_file, check_overlap=False)
         content_threads = "threads" in pf.echo.get("solver", {})
         opt = pf.options if content_threads else replace(pf.options, threads=threads)
+        # the pair's method, as `bemcontact run` follows it: a point the contact
+        # grid solves needs no condensed bodies
+        method = pf.pairs[0].method if len(pf.pairs) == 1 else "full"
+        grid = on_grid(pf.contact_problem(), pf.steps, method, opt)[0] if method != "full" \
+            else None
+        if grid is not None:
+            pf.write(grid, out_dir)
+            row.update(grid_outputs(grid), status="ok")
+            row["seconds"] = time.perf_counter() - t0
+            return row
         cond = _condensation(group, pf, opt, cache_dir)
         # bodies far from the origin: ContactProblem solves relative to their
         # own and returns the results at their position (contact/origin.py)

@@ -67,6 +67,30 @@ def outputs(result) -> dict[str, Any]:
     return out
 
 
+def grid_outputs(result) -> dict[str, Any]:
+    """The key outputs of a contact solved on the grid (a
+    :class:`~bemcontact.multiscale.pair.GridResult`), as :func:`outputs`':
+    counts of cells, areas from the cells' area, forces in global components
+    at the last step."""
+    last = result.history[-1]
+    state = np.asarray(last.state)
+    cell = result.grid.cell_area
+    force = np.asarray(last.force) @ result.axes
+    return {
+        "converged": bool(result.converged),
+        "normal_force": float(last.force[2]),
+        "tangential_force": float(np.hypot(last.force[0], last.force[1])),
+        "stick": int((state == 1).sum()), "slip": int((state == 2).sum()),
+        "open": int((state == 0).sum()),
+        "peak_pressure": float(np.max(last.p[:, 2], initial=0.0)),
+        "slip_area": float((state == 2).sum() * cell),
+        "contact_area": float((state != 0).sum() * cell),
+        "force_x": float(force[0]), "force_y": float(force[1]), "force_z": float(force[2]),
+        "newton_iterations": int(sum(r.iterations for r in result.records)),
+        "increments": len(result.records),
+    }
+
+
 def _pair_columns(rows: list[dict]) -> list[str]:
     """The ``pair<k>.*`` columns the rows hold, pair by pair."""
     k = 1

@@ -345,3 +345,26 @@ def test_bodies_far_from_the_origin(tmp_path, client):
     got, want = frame(tmp_path / "out" / "points" / "p0001"), frame(tmp_path / "run")
     assert got.shape == want.shape and want[:, 0].min() >= 1000.0  # x at the bodies' position
     assert np.abs(got - want).max() <= 1e-10 * np.abs(want).max()
+
+
+def test_a_point_follows_its_pairs_method_on_the_grid(tmp_path):
+    """A point whose pair says ``method = "multiscale"`` (or ``"auto"`` on
+    coarse meshes) is solved on the contact grid as `bemcontact run` solves
+    it, not by the full path on its coarse meshes: the row holds the grid's
+    forces (the example's 2,653.0 N, tests/test_examples.py) and counts, and
+    the point's directory the grid's files."""
+    import pathlib
+
+    from bemcontact.study.sweep import run_point
+
+    example = pathlib.Path(__file__).resolve().parents[3] / "examples" / "cattaneo_mindlin_multiscale.toml"
+    text = example.read_text().replace("[contact]", '[output]\nfigures = false\ndefault_stresses = false\n\n[contact]', 1)
+    point = tmp_path / "point.toml"
+    point.write_text(text)
+    out = tmp_path / "out"
+    row = run_point(str(point), str(out), "g", str(tmp_path / "cache"), 1)
+    assert row["status"] == "ok", row
+    assert row["normal_force"] == pytest.approx(2653.0, rel=1e-3)
+    assert row["tangential_force"] == pytest.approx(396.0, rel=1e-9)  # the platen force
+    assert row["stick"] > 0 and row["slip"] > 0 and row["increments"] == 5
+    assert (out / "grid.csv").is_file() and not (out / "frame.csv").exists()
