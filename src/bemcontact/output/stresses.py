@@ -26,7 +26,7 @@ import pathlib
 import numpy as np
 
 from ..errors import ConfigError
-from ..stresses import COLUMNS, StressField, default_requests, evaluate, surface_maxima
+from ..stresses import COLUMNS, StressField, default_requests, evaluate_all, surface_maxima
 from .vtu import write_vtu
 from .tables import write_csv
 
@@ -43,11 +43,11 @@ def stress_fields(result, options) -> tuple[list[StressField], list[str]]:
             if r.body not in names:
                 raise ConfigError(f"output.stresses {r.label!r}: unknown body {r.body!r}; the "
                                   f"bodies are {sorted(names)}", location={"field": "body"})
-        return [evaluate(result, r) for r in options.stresses], []
+        return evaluate_all(result, [(r, None) for r in options.stresses]), []
     if not options.default_stresses:
         return [], []
     requests, skipped = default_requests(result)
-    return [evaluate(result, r, lattice) for r, lattice in requests], skipped
+    return evaluate_all(result, requests), skipped
 
 
 def stem(f: StressField) -> str:

@@ -8,11 +8,11 @@ full path (:func:`bemcontact.bem.interior.interior_stresses`), Love's
 half-space field of the grid tractions on the multiscale path
 (:mod:`bemcontact.multiscale.stress`)."""
 
-from .fields import (COLUMNS, MEASURES, Lattice, StressField, evaluate, maxima, measures,
-                     surface_maxima)
+from .fields import (COLUMNS, MEASURES, Lattice, StressField, evaluate, evaluate_all, maxima,
+                     measures, surface_maxima)
 from .probes import MAX_POINTS, PROBE_KEYS, Box, Line, Plane, StressRequest
 from .sections import default_requests
 
 __all__ = ["Box", "COLUMNS", "Lattice", "Line", "MAX_POINTS", "MEASURES", "PROBE_KEYS", "Plane",
-           "StressField", "StressRequest", "default_requests", "evaluate", "maxima", "measures",
-           "surface_maxima"]
+           "StressField", "StressRequest", "default_requests", "evaluate", "evaluate_all", "maxima",
+           "measures", "surface_maxima"]

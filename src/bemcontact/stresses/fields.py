@@ -149,25 +149,50 @@ def evaluate(result, request: StressRequest, lattice: Lattice | None = None, *,
     the maxima of every load step are computed (one evaluation per step),
     else of the last only.  Raises :class:`ConfigError` for an unknown body or
     a point outside it (naming the request's label)."""
-    if not isinstance(request, StressRequest):
-        raise ConfigError(f"evaluate: expected a StressRequest, got {type(request).__name__}")
-    lat = lattice if lattice is not None else Lattice.of(request.probe)
+    return evaluate_all(result, [(request, lattice)], every_step=every_step)[0]
+
+
+def evaluate_all(result, items, *, every_step: bool = True) -> list[StressField]:
+    """:func:`evaluate` for each (request, lattice or None) of ``items``, the
+    requests of one body together (one evaluation per body and step: the
+    quadrature's set-up, or the grid's FFT layers at the depths they share,
+    once)."""
+    for request, _ in items:
+        if not isinstance(request, StressRequest):
+            raise ConfigError(f"evaluate: expected a StressRequest, got "
+                              f"{type(request).__name__}")
+    lats = [lat if lat is not None else Lattice.of(r.probe) for r, lat in items]
     states = _states(result)
     if not every_step:
         states = states[-1:]
-    maxs, s = [], None
-    for state in states:
-        try:
-            s = np.asarray(state(request.body, lat.points), dtype=float)
-        except ConfigError as exc:
-            raise ConfigError(f"output.stresses {request.label!r} ({request.kind} in "
-                              f"{request.body!r}): {exc}",
-                              location={**exc.location, "label": request.label}) from None
-        maxs.append(maxima(lat.points, s))
+    maxs: list[list] = [[] for _ in items]
+    last: list = [None] * len(items)
+    bodies: dict[str, list[int]] = {}
+    for k, (r, _) in enumerate(items):
+        bodies.setdefault(r.body, []).append(k)
+    for body, ks in bodies.items():
+        points = np.concatenate([lats[k].points for k in ks])
+        bounds = np.cumsum([0] + [len(lats[k].points) for k in ks])
+        for state in states:
+            try:
+                s = np.asarray(state(body, points), dtype=float)
+            except ConfigError as exc:
+                i = int(exc.location.get("point", 0))
+                j = max(int(np.searchsorted(bounds, i, side="right")) - 1, 0)
+                r = items[ks[j]][0]
+                detail = str(exc).replace(f"point {i} ", f"point {i - bounds[j]} ", 1)
+                raise ConfigError(f"output.stresses {r.label!r} ({r.kind} in {r.body!r}): "
+                                  f"{detail}", location={**exc.location,
+                                                         "label": r.label}) from None
+            for j, k in enumerate(ks):
+                part = s[bounds[j]:bounds[j + 1]]
+                maxs[k].append(maxima(lats[k].points, part))
+                last[k] = part
     note = ("half-space field of the grid tractions (depth below each body's contact surface)"
             if hasattr(result, "grid") else "Somigliana's identity on the boundary solution")
-    return StressField(request, lat, s, maxs, note)
+    return [StressField(r, lat, last[k], maxs[k], note)
+            for k, ((r, _), lat) in enumerate(zip(items, lats))]
 
 
-__all__ = ["COLUMNS", "Lattice", "MEASURES", "StressField", "evaluate", "maxima", "measures",
-           "surface_maxima"]
+__all__ = ["COLUMNS", "Lattice", "MEASURES", "StressField", "evaluate", "evaluate_all", "maxima",
+           "measures", "surface_maxima"]

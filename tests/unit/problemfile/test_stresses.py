@@ -115,3 +115,15 @@ def test_a_point_on_the_surface_writes_nothing(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "output.stresses '1'" in err and "from the surface" in err
     assert not out.exists()
+
+
+def test_a_bad_point_is_named_in_its_own_section(tmp_path, capsys):
+    """Sections of one body are evaluated together; a point on the surface
+    in the second is reported with that section's label and its own index."""
+    path = write(tmp_path, BASE + LINE + '\n[[output.stresses]]\nbody = "lower"\nlabel = "top"\n'
+                 'line = { from = [1, 1, 1], to = [1, 1, 2], points = 5 }\n')
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "output.stresses 'top' (line in 'lower'): point 4 at (1, 1, 2)" in err, err
+    assert not out.exists()
