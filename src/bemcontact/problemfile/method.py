@@ -30,7 +30,8 @@ def on_grid(problem, steps, method: str, options: SolverOptions):
     except (ConfigError, ConvergenceError) as exc:
         if method == "multiscale":
             raise
-        return None, f"contact.method = \"auto\": the full path ({exc})"
+        why = str(exc).removeprefix("method = \"multiscale\": ")
+        return None, f"contact.method = \"auto\": the full path ({why})"
     app = applicability(result, problem)
     if method == "auto" and app["reason"]:
         return None, f"contact.method = \"auto\": the full path ({app['reason']})"
