@@ -194,8 +194,8 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
         The TOML file.  Mesh files named in it are relative to its directory.
     check_overlap:
         Also build the contact frame, which finds contact surfaces that do
-        not face each other (reported on ``contact.surfaces``).  The frame is
-        kept and reused by the solve.
+        not face each other (reported on ``contact.surfaces``); kept and
+        reused by the solve (not for a pair with ``method = "multiscale"``).
 
     Raises
     ------
@@ -318,7 +318,9 @@ class _Reader(Checker):
             except ConfigError as exc:
                 k = exc.location.get("step", 0)
                 self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
-        if check_overlap:
+        # the full path's frame, unless the grid solves the pair (it never uses it)
+        grid_only = len(problem.pairs) == 1 and problem.pairs[0].method == "multiscale"
+        if check_overlap and not grid_only:
             try:  # the frame's memory estimate, before the frame allocates
                 problem.contact_problem().check_frame_memory()
             except ConfigError as exc:
