@@ -312,13 +312,21 @@ def _describe(problem) -> str:
             f"  contact: {cp.bodies[i].name}.{pair.surface1} - {cp.bodies[j].name}."
             f"{pair.surface2}, mu = {pair.friction_coefficient:g}, {pair.frame} frame "
             f"{frame.placement} (frame_on = {pair.frame_on}): "
-            f"{int(np.count_nonzero(frame.active))} active frame nodes"
+            f"{int(np.count_nonzero(frame.active))} active frame nodes; method = {pair.method}"
         )
     steps = problem.steps
     lines.append(
         f"  load: {len(steps)} step(s), {sum(s.increments for s in steps)} increment(s)"
         if steps else f"  load: one step in {problem.options.load_steps} increment(s)"
     )
+    out = problem.output
+    if out.stresses:
+        lines.append("  stresses: " + "; ".join(
+            f"{r.label} ({r.kind} in {r.body}, {int(np.prod(r.probe.shape))} points)"
+            for r in out.stresses))
+    elif out.default_stresses:
+        lines.append("  stresses: a depth profile and two sections under the peak pressure, in "
+                     "each body the contact is small against (output.default_stresses)")
     est = cp.memory_estimate(problem.options, steps or None)
     total, available = machine_memory()
     lines.append(

@@ -127,3 +127,11 @@ def test_a_bad_point_is_named_in_its_own_section(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "output.stresses 'top' (line in 'lower'): point 4 at (1, 1, 2)" in err, err
     assert not out.exists()
+
+
+def test_check_lists_the_stresses_asked_for(tmp_path, capsys):
+    path = write(tmp_path, BASE + LINE + PLANE)
+    assert main(["check", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "stresses: 1 (line in lower, 8 points); mid (plane in upper, 20 points)" in out
+    assert "method = auto" in out
