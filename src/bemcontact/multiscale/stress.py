@@ -29,10 +29,7 @@ from .surface import quartic_terms
 def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
     """(body index, (n, 3) = (ξ, η, depth below the body's contact surface))
     of global ``points`` (n, 3); depth > 0 inside the body."""
-    if body not in result.names:
-        raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
-                          location={"body": body})
-    b = result.names.index(body)
+    b = _body_index(result, body)
     try:
         X = np.asarray(points, dtype=float)
     except (TypeError, ValueError):
@@ -99,10 +96,7 @@ def grid_surface_stresses(result, body: str, step: int = -1) -> np.ndarray:
     half-space field's limit at the surface (evaluated at a depth of 1e-9
     cells, by FFT), whose σ_iζ are the cell's tractions."""
     _check_step(result, step)
-    if body not in result.names:
-        raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
-                          location={"body": body})
-    b = result.names.index(body)
+    b = _body_index(result, body)
     field, p = _field(result, b, step)
     g = result.grid
     return _global(result, b, field.layer(p, 1e-9 * min(g.dx, g.dy)).reshape(-1, 6))
@@ -111,15 +105,22 @@ def grid_surface_stresses(result, body: str, step: int = -1) -> np.ndarray:
 def grid_surface_points(result, body: str) -> np.ndarray:
     """(n, 3) global points of ``body``'s contact surface at the grid cells
     (where :func:`grid_surface_stresses` gives the stresses)."""
-    b = result.names.index(body)
+    b = _body_index(result, body)
     c = result.grid.centres
     zeta = quartic_terms(c[:, 0], c[:, 1]) @ result.surfaces[b]
     return result.origin + np.column_stack([c[:, :2], zeta]) @ result.axes
 
 
+def _body_index(result, body: str) -> int:
+    if body not in result.names:
+        raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
+                          location={"body": body})
+    return result.names.index(body)
+
+
 def _check_step(result, step) -> None:
-    if not isinstance(step, (int, np.integer)) or not -len(result.history) <= step < len(
-            result.history):
+    if (isinstance(step, bool) or not isinstance(step, (int, np.integer))
+            or not -len(result.history) <= step < len(result.history)):
         raise ConfigError(f"step must index the {len(result.history)} load steps, got {step!r}",
                           location={"field": "step"})
 

@@ -15,8 +15,9 @@ For each :class:`~bemcontact.stresses.StressField` (stem
   components and von Mises against the distance on a line or profile.
 
 ``summary.json`` gets ``stresses``: per field its request, number of points
-and the maximum von Mises and Tresca stresses with their points, per step;
-and per body the largest over its fields (``maximum``).
+and the largest von Mises, Tresca and principal (σ1) stresses with their
+points, per step; per body the largest over its fields (``maximum``) and on
+its surface (``surface``).
 """
 
 from __future__ import annotations
@@ -59,8 +60,8 @@ def _figures(fields: list[StressField], options) -> list[tuple[str, list[StressF
     for the default probes (section 1 with the depth profile beside it)."""
     if not options.figures:
         return []
-    if options.stresses:
-        return [(f"{stem(f)}.png", [f]) for f in fields]
+    if options.stresses:  # a field of one point has nothing to draw
+        return [(f"{stem(f)}.png", [f]) for f in fields if max(f.lattice.shape) > 1]
     bodies: dict[str, list[StressField]] = {}
     for f in fields:
         bodies.setdefault(f.request.body, []).append(f)
@@ -146,20 +147,19 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
         f = planes[0]
         ax = axes.pop(0)
         lat = f.lattice
-        dims = [k for k, n in enumerate(lat.shape) if n > 1][:2]
-        vm = f.von_mises
-        V = vm.reshape(lat.shape)
-        if V.ndim == 3:  # a box: the middle slice across its last direction
-            V = np.take(V, V.shape[2] // 2, axis=2) if lat.shape[2] > 1 else V[:, :, 0]
-        V = V.reshape([lat.shape[k] for k in dims])
-        a, b = dims
+        dims = [k for k, n in enumerate(lat.shape) if n > 1]
+        # the lattice without its one-point directions; a full box: the middle
+        # slice across its last direction (its largest value marked there)
+        vm = f.von_mises.reshape([lat.shape[k] for k in dims])
+        if len(dims) == 3:
+            vm = vm[:, :, vm.shape[2] // 2]
+        a, b = dims[:2]
         X, Y = np.meshgrid(lat.coordinates[a], lat.coordinates[b], indexing="ij")
-        m = ax.contourf(X, Y, V, levels=20, cmap="magma_r")
+        m = ax.contourf(X, Y, vm, levels=20, cmap="magma_r")
         fig.colorbar(m, ax=ax, label=f"von Mises{su}", location="left" if both else "right")
-        k = int(np.argmax(vm))
-        idx = np.unravel_index(k, lat.shape)
-        ax.plot(lat.coordinates[a][idx[a]], lat.coordinates[b][idx[b]], "c+", ms=14, mew=2,
-                label=f"max {vm[k]:.4g}{' ' + stress if stress else ''}")
+        i, j = np.unravel_index(int(np.argmax(vm)), vm.shape)
+        ax.plot(lat.coordinates[a][i], lat.coordinates[b][j], "c+", ms=14, mew=2,
+                label=f"max {vm[i, j]:.4g}{' ' + stress if stress else ''}")
         ax.legend(loc="lower right", fontsize=8)
         if lat.names[b] == "depth":
             ax.invert_yaxis()

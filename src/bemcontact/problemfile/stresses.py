@@ -7,6 +7,7 @@ body is checked on the solution, before anything is written)."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -48,9 +49,11 @@ def stress_requests(check: Checker, value: Any, names: list[str], meshes: list) 
             request = StressRequest(body, probe, label)
         except ConfigError as exc:
             field = exc.location.get("field")
-            w = f"{pw}.{field}" if field and field != "label" else (
-                f"{where}.label" if field == "label" else pw)
-            check.wrap(w, exc, pt.get(field, pt) if field in pt else label)
+            if field == "label":
+                w, value = f"{where}.label", label
+            else:
+                w, value = (f"{pw}.{field}", pt[field]) if field in pt else (pw, pt)
+            check.fail(w, _what(str(exc)), value)
         if (body, label) in labels:
             check.fail(f"{where}.label", f"is used twice for body {body!r} (it names the files)",
                        label, "give each section its own label")
@@ -58,6 +61,14 @@ def stress_requests(check: Checker, value: Any, names: list[str], meshes: list) 
         _inside_box(check, pw, probe, meshes[names.index(body)], body)
         out.append(request)
     return tuple(out)
+
+
+def _what(message: str) -> str:
+    """A probe's or request's message as the 'what' of a field error: without
+    its owner's prefix (``line: ``, ``stresses: ``) and its own ``, got ...``
+    (the field error says what it got)."""
+    text = re.sub(r"^(line|plane|box|stresses): ", "", message)
+    return re.sub(r", got .*$", "", text).rstrip(".")
 
 
 def _pair(v) -> tuple:

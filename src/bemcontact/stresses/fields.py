@@ -180,9 +180,10 @@ def evaluate_all(result, items, *, every_step: bool = True) -> list[StressField]
                 i = int(exc.location.get("point", 0))
                 j = max(int(np.searchsorted(bounds, i, side="right")) - 1, 0)
                 r = items[ks[j]][0]
-                detail = str(exc).replace(f"point {i} ", f"point {i - bounds[j]} ", 1)
+                own = int(i - bounds[j])
+                detail = str(exc).replace(f"point {i} ", f"point {own} ", 1)
                 raise ConfigError(f"output.stresses {r.label!r} ({r.kind} in {r.body!r}): "
-                                  f"{detail}", location={**exc.location,
+                                  f"{detail}", location={**exc.location, "point": own,
                                                          "label": r.label}) from None
             for j, k in enumerate(ks):
                 part = s[bounds[j]:bounds[j + 1]]

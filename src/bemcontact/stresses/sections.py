@@ -8,8 +8,8 @@ compared with the body (the body's smallest bounding-box extent at least
   :data:`DEPTHS` ``[0]`` to ``[1]`` contact radii below its surface
   (:data:`PROFILE_POINTS` points);
 * ``section1`` and ``section2``: the two planes through the normal, the first
-  along the tangential force (or the frame's first tangent when there is
-  none), −2a ≤ u ≤ 2a, from the same depths (:data:`SECTION_POINTS`; on the
+  along the tangential force (or, when there is none, the global axis least
+  aligned with the normal, projected), −2a ≤ u ≤ 2a, from the same depths (:data:`SECTION_POINTS`; on the
   multiscale path along the grid's axes, the one nearer the tangential force
   first, at every cell centre).
 
@@ -26,6 +26,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.interpolate
 
+from ..contact.law import OPEN
 from ..contact.results import ContactResult
 from ..multiscale.pair import GridResult
 from ..multiscale.surface import quartic_terms
@@ -52,7 +53,7 @@ def _contacts(result) -> list[dict]:
         st = result.history[-1]
         k = int(np.argmax(st.p[:, 2]))
         A = result.axes
-        closed = float(np.sum(st.p[:, 2] > 0.0)) * result.grid.cell_area
+        closed = float(np.sum(st.state != OPEN)) * result.grid.cell_area
         f = st.force[:2]
         # the sections along the grid's axes (their points then lie below
         # cell centres: FFT layers), the first the nearer the tangential force
@@ -68,7 +69,7 @@ def _contacts(result) -> list[dict]:
                 L = (c - result.origin + uv[:, :1] * e_u + uv[:, 1:] * e_v) @ A.T
                 return sign * (quartic_terms(L[:, 0], L[:, 1]) @ coef - cl[2])
             return h
-        return [{"names": result.names, "bodies": [c.body for c in result.corrections],
+        return [{"names": result.names, "bodies": [corr.body for corr in result.corrections],
                  "centre": c, "normal": A[2], "tangent": t, "radius": np.sqrt(closed / np.pi),
                  "heights": [height(0), height(1)], "cells": (result.grid, k, A)}]
     if not isinstance(result, ContactResult):
@@ -167,6 +168,8 @@ def default_requests(result) -> tuple[list[tuple[StressRequest, Lattice]], list[
                     step, lo, hi = _cells(*info["cells"], e_u)
                     m = int(HALF_WIDTH * a / step)
                     u = step * np.arange(max(-m, lo), min(m, hi) + 1)
+                    if u.size < 2:  # the grid too narrow along this direction
+                        continue
                 else:
                     u = np.linspace(-HALF_WIDTH * a, HALF_WIDTH * a, SECTION_POINTS[0])
                 d = np.linspace(d0, d1, SECTION_POINTS[1])
@@ -175,7 +178,8 @@ def default_requests(result) -> tuple[list[tuple[StressRequest, Lattice]], list[
                 hh = h(uv, e_u, np.cross(n_in, e_u))
                 P = c + U.reshape(-1, 1) * e_u + (hh + D.ravel())[:, None] * n_in
                 shape = (u.size, d.size)
-                plane = Plane(tuple(c + (h0 + 0.5 * (d0 + d1)) * n_in), tuple(np.cross(e_u, n_in)),
+                mid = c + 0.5 * (u[0] + u[-1]) * e_u + (h0 + 0.5 * (d0 + d1)) * n_in
+                plane = Plane(tuple(mid), tuple(np.cross(e_u, n_in)),
                               (float(u[-1] - u[0]), d1 - d0), shape, tuple(e_u))
                 out.append((StressRequest(name, plane, f"section{k}"),
                             Lattice(P, shape, (u, d), ("u", "depth"))))

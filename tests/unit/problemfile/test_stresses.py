@@ -135,3 +135,29 @@ def test_check_lists_the_stresses_asked_for(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "stresses: 1 (line in lower, 8 points); mid (plane in upper, 20 points)" in out
     assert "method = auto" in out
+
+
+def test_slices_of_a_box_and_a_single_point_are_drawn_or_skipped(tmp_path):
+    """A box one point thick along x or y is a plane: drawn as one; a box of
+    one point has nothing to draw: its CSV and VTU only."""
+    text = BASE + '\n[[output.stresses]]\nbody = "lower"\nlabel = "xz"\nbox = { lower = [0.5, 1, 0.5], upper = [1.5, 1, 1.5], points = 5 }\n'
+    text += '\n[[output.stresses]]\nbody = "lower"\nlabel = "dot"\nbox = { lower = [1, 1, 1], upper = [1, 1, 1], points = 1 }\n'
+    path = write(tmp_path, text + '\n[output]\nsteps = "last"\n')
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    written = json.loads((out / "summary.json").read_text())
+    assert written["stresses"]["fields"][1]["points"] == 1
+    assert (out / "stresses_lower_xz.png").is_file() and (out / "stresses_lower_xz.csv").is_file()
+    assert not (out / "stresses_lower_dot.png").exists()
+    assert (out / "stresses_lower_dot.csv").is_file() and (out / "stresses_lower_dot.vtu").is_file()
+
+
+def test_a_bad_points_location_is_its_index_in_its_own_request(tmp_path):
+    from bemcontact.stresses import StressRequest, evaluate_all
+
+    result = load_problem(write(tmp_path, BASE), check_overlap=False).solve()
+    ok = StressRequest("lower", Line((1, 1, 0.5), (1, 1, 1.5), 5), "ok")
+    bad = StressRequest("lower", Line((1, 1, 1), (1, 1, 2), 5), "bad")
+    with pytest.raises(bc.ConfigError, match=r"'bad' \(line in 'lower'\): point 4 ") as e:
+        evaluate_all(result, [(ok, None), (bad, None)])
+    assert e.value.location["point"] == 4 and e.value.location["label"] == "bad"
