@@ -29,7 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConfigError
-from ..mesh.element import REFERENCE_NODES, lagrange_basis
+from ..mesh.element import element_geometry, lagrange_basis
 from .material import LinearElastic
 from .solution import BodySolution
 
@@ -50,9 +50,7 @@ def surface_stresses(solution: BodySolution, material: LinearElastic) -> np.ndar
     xi = disc.fxi[:, :k].reshape(-1, 2)
     fn = disc.fconn[:, :k].reshape(-1)
     _, Nx, Ny = lagrange_basis(et, disc.fxi[e, :k], xi)
-    _, Gx, Gy = lagrange_basis(et, REFERENCE_NODES[et], xi)
-    X = mesh.nodes[mesh.elements[e]]
-    gx, gy = np.einsum("pk,pkc->pc", Gx, X), np.einsum("pk,pkc->pc", Gy, X)
+    _, gx, gy = element_geometry(mesh, e, xi)
     U = solution.displacement[disc.fconn[e, :k]]
     ux, uy = np.einsum("pk,pkc->pc", Nx, U), np.einsum("pk,pkc->pc", Ny, U)
     n = np.cross(gx, gy)

@@ -11,6 +11,7 @@ steps); state codes 0 open, 1 stick, 2 slip (:data:`bemcontact.contact.law.STATE
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -217,13 +218,32 @@ class ContactResult:
     verification: Verification | None = None
     #: body name -> the body (what :meth:`stresses` asks for its stresses)
     models: dict = field(default_factory=dict)
+    #: how :meth:`stresses` computes them (said in the stress files' summary)
+    stress_model: ClassVar[str] = "Somigliana's identity on the boundary solution"
 
-    def stresses(self, body: str, points) -> np.ndarray:
+    def stresses(self, body: str, points, step: int | None = None) -> np.ndarray:
         """The stress tensor (n, 6) = (σxx, σyy, σzz, σxy, σyz, σxz), tension
         positive, at interior ``points`` (n, 3) of the body named ``body``,
         from its solution in this result (a BEM body: Somigliana's identity,
-        :func:`~bemcontact.bem.interior.interior_stresses`)."""
-        return self._model(body, "stresses").stresses(self.bodies[self.names.index(body)], points)
+        :func:`~bemcontact.bem.interior.interior_stresses`), or at the end of
+        load step ``step`` (an index into ``history``)."""
+        state = self if step is None else self._step(step)
+        return state._model(body, "stresses").stresses(
+            state.bodies[state.names.index(body)], points)
+
+    def surface_points(self, body: str) -> np.ndarray:
+        """(N, 3) the points where :meth:`surface_stresses` gives the stresses:
+        the functional nodes of the body named ``body``."""
+        self._model(body, "surface_stresses")
+        return self.bodies[self.names.index(body)].points
+
+    def _step(self, step) -> ContactResult:
+        states = self.history or [self]
+        if (isinstance(step, bool) or not isinstance(step, (int, np.integer))
+                or not -len(states) <= step < len(states)):
+            raise ConfigError(f"step must index the {len(states)} load steps, got {step!r}",
+                              location={"field": "step"})
+        return states[step]
 
     def surface_stresses(self, body: str) -> np.ndarray:
         """The stress tensor (N, 6) on the surface of the body named

@@ -32,6 +32,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 import scipy.fft
@@ -50,7 +51,7 @@ from ..settings import Key, check_settings, setting
 from .correction import BodyCorrection
 from .interface import GridInterface
 from .operator import PairOperator
-from .stress import grid_stresses, grid_surface_stresses
+from .stress import grid_stresses, grid_surface_points, grid_surface_stresses
 from .surface import contact_spacing, element_size, quartic_terms, region_nodes, surface_fit
 
 @dataclass(frozen=True)
@@ -116,6 +117,9 @@ class GridResult:
     #: each body's contact surface ζ(ξ, η) in the frame: quartic coefficients
     #: (:func:`quartic_terms`), body 1's then body 2's
     surfaces: tuple = ()
+    #: how :meth:`stresses` computes them (said in the stress files' summary)
+    stress_model: ClassVar[str] = ("the half-space field of the grid tractions below each "
+                                   "body's contact surface")
 
     def stresses(self, body: str, points, step: int = -1) -> np.ndarray:
         """The stress tensor (n, 6), global components, tension positive, at
@@ -127,6 +131,11 @@ class GridResult:
         """The stress tensor (n, 6) on ``body``'s surface at each grid cell
         (:func:`~bemcontact.multiscale.stress.grid_surface_stresses`)."""
         return grid_surface_stresses(self, body, step)
+
+    def surface_points(self, body: str) -> np.ndarray:
+        """(n, 3) the points of ``body``'s surface where :meth:`surface_stresses`
+        gives the stresses (:func:`~bemcontact.multiscale.stress.grid_surface_points`)."""
+        return grid_surface_points(self, body)
 
     @property
     def converged(self) -> bool:

@@ -21,7 +21,6 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..halfspace import principal_stresses, tresca, von_mises
-from ..multiscale.stress import grid_surface_points
 from .probes import Box, Line, Plane, StressRequest
 
 #: Columns of ``stresses_<body>_<label>.csv``.
@@ -118,28 +117,24 @@ def maxima(points: np.ndarray, stresses: np.ndarray) -> dict:
 
 def surface_maxima(result) -> dict:
     """Per body of ``result``, the :func:`maxima` of its surface stresses at
-    the end of the last step (the full path: at its solution's functional
-    nodes; the multiscale path: on its contact surface at the grid cells);
-    bodies that give none are left out."""
+    the end of the last step (``result.surface_points`` and
+    ``.surface_stresses``: the full path's functional nodes, the grid's
+    cells); bodies that give none are left out."""
     out = {}
-    for k, name in enumerate(result.names):
-        if hasattr(result, "grid"):
-            points, s = grid_surface_points(result, name), result.surface_stresses(name)
-        else:
-            model = result.models.get(name)
-            if model is None or not hasattr(model, "surface_stresses"):
-                continue
-            points, s = result.bodies[k].points, result.surface_stresses(name)
-        out[name] = maxima(points, s)
+    for name in result.names:
+        try:
+            points = result.surface_points(name)
+        except ConfigError:  # a body without surface stresses
+            continue
+        out[name] = maxima(points, result.surface_stresses(name))
     return out
 
 
 def _states(result) -> list:
-    """The result's per-step states as (callable stresses(body, points))."""
-    history = getattr(result, "history", None) or [result]
-    if hasattr(result, "grid"):  # the multiscale path: GridResult.stresses(..., step)
-        return [lambda b, x, k=k: result.stresses(b, x, k) for k in range(len(history))]
-    return [r.stresses for r in history]
+    """Per load step, stresses(body, points) at its end (``result.stresses``
+    with ``step``, on either path)."""
+    n = len(getattr(result, "history", None) or [result])
+    return [lambda b, x, k=k: result.stresses(b, x, step=k) for k in range(n)]
 
 
 def evaluate(result, request: StressRequest, lattice: Lattice | None = None, *,
@@ -189,8 +184,7 @@ def evaluate_all(result, items, *, every_step: bool = True) -> list[StressField]
                 part = s[bounds[j]:bounds[j + 1]]
                 maxs[k].append(maxima(lats[k].points, part))
                 last[k] = part
-    note = ("half-space field of the grid tractions (depth below each body's contact surface)"
-            if hasattr(result, "grid") else "Somigliana's identity on the boundary solution")
+    note = getattr(result, "stress_model", "")
     return [StressField(r, lat, last[k], maxs[k], note)
             for k, ((r, _), lat) in enumerate(zip(items, lats))]
 

@@ -161,3 +161,16 @@ def test_a_bad_points_location_is_its_index_in_its_own_request(tmp_path):
     with pytest.raises(bc.ConfigError, match=r"'bad' \(line in 'lower'\): point 4 ") as e:
         evaluate_all(result, [(ok, None), (bad, None)])
     assert e.value.location["point"] == 4 and e.value.location["label"] == "bad"
+
+
+def test_a_results_stresses_at_a_load_step(tmp_path):
+    """``ContactResult.stresses(body, points, step)`` is the stresses of the
+    step's state (``history[step]``); a step outside the history is refused."""
+    result = load_problem(write(tmp_path, BASE), check_overlap=False).solve()
+    X = [[1.0, 1.0, 1.0], [0.5, 0.7, 1.2]]
+    assert np.array_equal(result.stresses("lower", X, step=0),
+                          result.history[0].stresses("lower", X))
+    assert np.array_equal(result.stresses("lower", X, step=-1), result.stresses("lower", X))
+    with pytest.raises(bc.ConfigError, match="step must index the 1 load steps"):
+        result.stresses("lower", X, step=1)
+    assert np.array_equal(result.surface_points("upper"), result.bodies[1].points)
