@@ -123,6 +123,18 @@ def ensure_tamaas(requirement: str = TAMAAS_REQUIREMENT):
     return _import_tamaas()
 
 
+def tamaas_available(install: bool) -> bool:
+    """Whether Tamaas can run here (``install``: pip-install it first if
+    missing); says why not on stdout, so a benchmark goes on with its own
+    rows only."""
+    try:
+        ensure_tamaas() if install else tamaas_info()
+    except (TamaasMissing, subprocess.CalledProcessError) as exc:
+        print(f"Tamaas unavailable ({exc}); bemcontact rows only")
+        return False
+    return True
+
+
 def tamaas_info() -> dict:
     tm = _import_tamaas()
     info = tm.TamaasInfo

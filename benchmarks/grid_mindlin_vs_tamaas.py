@@ -28,7 +28,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -110,15 +109,7 @@ def main(argv=None) -> int:
         return 0
     import _tamaas_side as tamaas_side
 
-    have_tamaas = True
-    try:
-        if args.no_install:
-            tamaas_side.tamaas_info()
-        else:
-            tamaas_side.ensure_tamaas()
-    except (tamaas_side.TamaasMissing, subprocess.CalledProcessError) as exc:
-        print(f"Tamaas unavailable ({exc}); bemcontact rows only")
-        have_tamaas = False
+    have_tamaas = tamaas_side.tamaas_available(install=not args.no_install)
     print(machine_line())
     rows = []
     head = (f"{'code':16s} {'a/h':>5s} {'cells':>7s} {'p0 err':>8s} {'q L2':>7s} {'c err':>7s} "

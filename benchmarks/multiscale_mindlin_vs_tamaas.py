@@ -29,7 +29,6 @@ import argparse
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 
@@ -115,15 +114,7 @@ def main(argv=None) -> int:
     import _tamaas_side as tamaas_side
     from grid_mindlin_vs_tamaas import tamaas_row
 
-    have_tamaas = True
-    try:
-        if args.no_install:
-            tamaas_side.tamaas_info()
-        else:
-            tamaas_side.ensure_tamaas()
-    except (tamaas_side.TamaasMissing, subprocess.CalledProcessError) as exc:
-        print(f"Tamaas unavailable ({exc}); bemcontact rows only")
-        have_tamaas = False
+    have_tamaas = tamaas_side.tamaas_available(install=not args.no_install)
     print(machine_line())
     print(f"{'code':22s} {'a/h':>5s} {'cells':>7s} {'p0 err':>8s} {'a err':>7s} {'q L2':>7s} "
           f"{'c err':>7s} {'dt err':>8s} {'CPU s':>8s} {'wall s':>8s} {'MB':>7s}")
