@@ -9,11 +9,12 @@ from .frames import FrameSet
 from .options import SolverOptions
 from .pair import ContactPair
 from .history import LoadStep
+from .rolling import Rolling
 from .problem import ContactProblem
 from .results import ContactResult, FrameResult, InterfaceResult, PairResult, StepRecord
 
 __all__ = [
-    "ContactPair", "ContactProblem", "LoadStep", "SolverOptions", "ContactFrame", "condense",
+    "ContactPair", "ContactProblem", "LoadStep", "Rolling", "SolverOptions", "ContactFrame", "condense",
     "CondensedBody", "ContactResult", "FrameResult", "FrameSet", "InterfaceResult", "PairResult",
     "StepRecord", "Flexibility",
 ]

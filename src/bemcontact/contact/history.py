@@ -12,6 +12,7 @@ import numpy as np
 
 from ..errors import ConfigError
 from ..settings import Key, check_settings, setting
+from .rolling import Rolling
 
 
 @dataclass(frozen=True)
@@ -33,6 +34,10 @@ class LoadStep:
         path dependent: use several for a path that matters).
     label:
         Name used in messages and results.
+    rolling:
+        A :class:`~bemcontact.contact.rolling.Rolling`: the step rolls the
+        bodies (steady state, or transient by its rolled distance per
+        increment); None (the default): they are pressed and shifted only.
 
     The history starts unloaded; slip is measured from the start of each
     increment, so a stuck point is one with no new slip in it.
@@ -44,9 +49,13 @@ class LoadStep:
         "the previous state", default=1, lo=1))
     label: str = setting(Key(
         "label", "string", "the step's name in messages and summary.json", default=""))
+    rolling: Rolling | None = None
 
     def __post_init__(self) -> None:
         check_settings(self)
+        if self.rolling is not None and not isinstance(self.rolling, Rolling):
+            raise ConfigError(f"LoadStep.rolling must be a Rolling or None, got "
+                              f"{type(self.rolling).__name__}")
         if not isinstance(self.conditions, Mapping) or not all(
             isinstance(k, str) and isinstance(c, Mapping) for k, c in self.conditions.items()
         ):

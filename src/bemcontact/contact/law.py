@@ -128,8 +128,8 @@ class CoulombLaw:
     the first-touch ``anchors``, and the history: the stick ``reference``
     (m, 2), the relative tangential displacement the increment's slip is
     counted from.  ``state``, ``residual`` and ``jacobian`` are those of
-    the module's functions at that history; a rolling law would convect
-    ``reference``."""
+    the module's functions at that history; rolling convects ``reference``
+    (:meth:`convect`)."""
 
     def __init__(self, friction, augmentation) -> None:
         self.friction = np.asarray(friction, dtype=float)
@@ -187,6 +187,18 @@ class CoulombLaw:
             return
         nodes = np.flatnonzero(done)
         self.reference = self.reference - influence(nodes, lam[nodes, :2])[:, :2]
+
+    def convect(self, reference: np.ndarray) -> None:
+        """Before a rolling increment: the stick reference is the convected
+        field ``reference`` (m, 2) (:mod:`~bemcontact.contact.rolling`: the
+        previous solution's k_t shifted upstream minus the rigid slip of the
+        rolled distance; zeros in steady state, where the law is handed the
+        convected slip itself), and every node has its friction: material
+        that enters the contact at the leading edge sticks there, it does
+        not close frictionless as a node reached by a growing normal load."""
+        self.reference = np.asarray(reference, dtype=float).reshape(self.m, 2).copy()
+        self.mu = self.friction.copy()
+        self.anchors = np.zeros(self.m, dtype=bool)
 
 
 __all__ = ["OPEN", "STICK", "SLIP", "STATE_NAMES", "CoulombLaw", "contact_state", "residual",

@@ -6,5 +6,6 @@ grid is solved matrix-free (Newton–Krylov)."""
 
 from .interface import GridInterface, GridRecord
 from .operator import PairOperator
+from .rolling import GridRolling
 
-__all__ = ["GridInterface", "GridRecord", "PairOperator"]
+__all__ = ["GridInterface", "GridRecord", "GridRolling", "PairOperator"]

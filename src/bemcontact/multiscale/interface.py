@@ -90,6 +90,9 @@ class GridInterface:
         self.p = np.zeros((n, 3))
         self.d = np.zeros(3)
         self._pair_of = np.zeros(n, dtype=np.intp)
+        #: the :class:`~.rolling.GridRolling` of the current increment (None:
+        #: no rolling)
+        self.rolling = None
 
     # -- fields
     def k(self, p: np.ndarray, d: np.ndarray) -> np.ndarray:
@@ -98,19 +101,45 @@ class GridInterface:
         k[:, 2] += self.gap
         return k
 
+    def law_k(self, p: np.ndarray, d: np.ndarray) -> np.ndarray:
+        """(n, 3) what the law sees: the relative displacements, whose
+        tangential part in steady-state rolling is the convected slip per
+        shift (I − S)(C p)_t + h w + d_t (:class:`~.rolling.GridRolling`)."""
+        k = self.k(p, d)
+        if self.rolling is not None and self.rolling.steady:
+            k[:, :2] = self.rolling.convected(k[:, :2] - d[:2]) + d[:2]
+        return k
+
+    def slip(self) -> np.ndarray:
+        """(n, 2) the slip of body 2 relative to body 1 in the current
+        increment at the current solution (frame t1, t2 components): the
+        law's k_t − reference; per rolled distance when rolling."""
+        s = self.law_k(self.p, self.d)[:, :2] - self.law.reference
+        if self.rolling is not None:
+            s = s / self.rolling.distance
+        return s
+
     def force(self, p: np.ndarray | None = None) -> np.ndarray:
         """(3,) the contact force on body 2 (F_z > 0 compressive)."""
         return self.area * (self.p if p is None else p).sum(axis=0)
 
     def state(self) -> np.ndarray:
         """(n,) OPEN, STICK or SLIP of each cell at the current solution."""
-        return self.law.state(self.p, self.k(self.p, self.d))
+        return self.law.state(self.p, self.law_k(self.p, self.d))
 
     # -- one increment
-    def start_increment(self) -> None:
+    def start_increment(self, rolling=None) -> None:
         """The law's coefficients in effect and stick reference from the
-        current solution (:meth:`~bemcontact.contact.law.CoulombLaw.start_increment`)."""
+        current solution (:meth:`~bemcontact.contact.law.CoulombLaw.start_increment`),
+        or, with ``rolling`` (a :class:`~.rolling.GridRolling`), the
+        convected reference (:meth:`~bemcontact.contact.law.CoulombLaw.convect`)."""
         op = self.op
+        self.rolling = rolling
+        if rolling is not None:
+            k_t = self.k(self.p, self.d)[:, :2]
+            self.law.convect(np.zeros((self.n, 2)) if rolling.steady
+                             else rolling.reference(k_t))
+            return
 
         def influence(nodes, t):
             f = np.zeros((self.n, 3))
@@ -121,7 +150,8 @@ class GridInterface:
                                  influence)
 
     def solve_increment(self, force: np.ndarray, shift: np.ndarray,
-                        guess: tuple[np.ndarray, np.ndarray] | None = None) -> GridRecord:
+                        guess: tuple[np.ndarray, np.ndarray] | None = None,
+                        rolling=None) -> GridRecord:
         """Solve for the targets: per component, the contact force ``force``
         (3,) where it is finite, else the rigid displacement ``shift`` (3,).
         ``guess``: (tractions (n, 3), rigid displacement (3,)) to start
@@ -131,18 +161,26 @@ class GridInterface:
         BLAS runs on one thread: its only work here is on vectors and the
         Krylov basis, where a second thread halves no wall time and doubles
         the CPU time (measured at a/h = 25: 0.95 s wall either way, 1.87 s
-        CPU with two threads, 0.94 s with one)."""
-        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
-            return self._solve_increment(force, shift, guess)
+        CPU with two threads, 0.94 s with one).
 
-    def _solve_increment(self, force, shift, guess) -> GridRecord:
+        ``rolling`` (a :class:`~.rolling.GridRolling`): the increment rolls.
+        In steady state a tangential component's rigid displacement is the
+        extra creepage times the cell size that carries its force where
+        ``force`` is finite, else zero (``shift`` is not used there)."""
+        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
+            return self._solve_increment(force, shift, guess, rolling)
+
+    def _solve_increment(self, force, shift, guess, rolling) -> GridRecord:
         force = np.asarray(force, dtype=float)
         shift = np.asarray(shift, dtype=float)
         free = np.flatnonzero(np.isfinite(force))
         fixed = np.flatnonzero(~np.isfinite(force))
         # the law's history from the state the increment starts from (the
         # converged one, at the previous load), then the new prescribed shift
-        self.start_increment()
+        self.start_increment(rolling)
+        if rolling is not None and rolling.steady:
+            shift = shift.copy()
+            shift[:2] = 0.0
         self.d[fixed] = shift[fixed]
         if guess is not None:
             self.p = np.array(guess[0], dtype=float).reshape(self.n, 3)
@@ -155,7 +193,7 @@ class GridInterface:
 
         def residual(z):
             p, d = self._unpack(z, free)
-            phi = self.law.residual(p, self.k(p, d)).ravel()
+            phi = self.law.residual(p, self.law_k(p, d)).ravel()
             rho = (self.area * p[:, free].sum(axis=0) - force[free]) / total_area
             return np.concatenate([phi, rho])
 
@@ -229,7 +267,7 @@ class GridInterface:
         law = self.law
         r = law.r
         mu = np.broadcast_to(law.mu, (n,))
-        k = self.k(p, d)
+        k = self.law_k(p, d)
         Phi = phi[: 3 * n].reshape(n, 3)
         sn = p[:, 2] - r * k[:, 2]
         closed = sn > 0.0
@@ -289,14 +327,28 @@ class GridInterface:
             return np.einsum("ij,ij->i", u[cells], direction)
 
         op = self.op
+        roll = self.rolling if self.rolling is not None and self.rolling.steady else None
+
+        def product(f):
+            """C f, its tangential part convected in steady rolling."""
+            u = op.matvec(f)
+            if roll is not None:
+                u[:, :2] = roll.difference(u[:, :2])
+            return u
 
         def B(y):
-            return diag * y + gather(op.matvec(scatter(y, vec)))
+            return diag * y + gather(product(scatter(y, vec)))
 
         # rows whose own traction term outweighs their cell's self-flexibility
         # (across a fast slip, c small) are preconditioned by their diagonal;
         # the others by the circulant inverse of C on the cells they share
-        own = np.einsum("ij,jk,ik->i", direction, op.self_block, direction)
+        # (in steady rolling, of (I − S) C: C's inverse after (I − S)'s)
+        block = op.self_block.copy()
+        if roll is not None:
+            nx, ny = self.grid.shape
+            di, dj = roll.neighbour_offset()
+            block[:2] -= op.halfspace.blocks[nx - 1 + di, ny - 1 + dj][:2]
+        own = np.einsum("ij,jk,ik->i", direction, block, direction)
         heavy = diag > own
         light = ~heavy
         inv_heavy = 1.0 / (diag[heavy] + own[heavy])
@@ -308,6 +360,8 @@ class GridInterface:
             f = np.empty((n, 3))
             for comp in range(3):
                 f[:, comp] = np.bincount(cells_l, weights=x[light] * dir_l[:, comp], minlength=n)
+            if roll is not None:
+                f[:, :2] = roll.undifference(f[:, :2])
             out[light] = np.einsum("ij,ij->i", op.precondition(f)[cells_l], dir_l)
             return out
 
@@ -337,7 +391,7 @@ class GridInterface:
             return np.concatenate([B(y) + D @ delta, G @ y])
 
         rho = self.area * p[:, free].sum(axis=0) - force[free]
-        b0 = rhs - gather(op.matvec(known))
+        b0 = rhs - gather(product(known))
         g = (-rho - self.area * known[:, free].sum(axis=0)) / cscale
         rhs_aug = np.concatenate([b0, g])
         count = [0]

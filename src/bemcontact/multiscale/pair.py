@@ -32,7 +32,6 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
-from typing import ClassVar
 
 import numpy as np
 import scipy.fft
@@ -42,16 +41,16 @@ import scipy.spatial
 
 from ..bem.conditions import Displacement, Force, Pressure, Traction
 from ..contact.history import LoadStep, checked_states
-from ..contact.law import OPEN, SLIP, STICK
+from ..contact.law import OPEN
 from ..contact.options import SolverOptions
-from ..contact.verification import EPS
 from ..errors import BemcontactError, ConfigError, ConvergenceError
 from ..halfspace import Compliance, Grid
 from ..settings import Key, check_settings, setting
 from .correction import BodyCorrection
 from .interface import GridInterface
 from .operator import PairOperator
-from .stress import grid_stresses, grid_surface_points, grid_surface_stresses
+from .result import GridResult, GridState, verified_state
+from .rolling import GridRolling
 from .surface import contact_spacing, element_size, quartic_terms, region_nodes, surface_fit
 
 @dataclass(frozen=True)
@@ -79,107 +78,6 @@ class GridOptions:
 
     def __post_init__(self) -> None:
         check_settings(self)
-
-
-@dataclass
-class GridState:
-    """The state at the end of one load step on the grid: tractions ``p``
-    (n, 3) on body 2 (frame components), relative displacements ``k`` (n, 3)
-    (``k[:, 2]`` the gap), contact ``state`` (n,), rigid displacement ``d``
-    (3,) of body 2 relative to body 1 (frame components), contact force (3,)
-    on body 2 (frame components), and the checks of the contact conditions."""
-
-    label: str
-    p: np.ndarray
-    k: np.ndarray
-    state: np.ndarray
-    d: np.ndarray
-    force: np.ndarray
-    checks: dict
-
-
-@dataclass
-class GridResult:
-    """A contact solved on the grid (:func:`solve_on_grid`)."""
-
-    names: tuple[str, str]
-    grid: Grid
-    origin: np.ndarray
-    axes: np.ndarray
-    gap: np.ndarray
-    history: list[GridState]
-    records: list
-    corrections: list[BodyCorrection]
-    timings: dict = field(default_factory=dict)
-    #: how the method was chosen: ``requested``, ``used``, ``reason`` and the
-    #: :func:`applicability` checks (set by the caller that chose it)
-    method: dict = field(default_factory=dict)
-    #: each body's contact surface ζ(ξ, η) in the frame: quartic coefficients
-    #: (:func:`quartic_terms`), body 1's then body 2's
-    surfaces: tuple = ()
-    #: how :meth:`stresses` computes them (said in the stress files' summary)
-    stress_model: ClassVar[str] = ("the half-space field of the grid tractions below each "
-                                   "body's contact surface")
-
-    def stresses(self, body: str, points, step: int = -1) -> np.ndarray:
-        """The stress tensor (n, 6), global components, tension positive, at
-        ``points`` (n, 3) inside ``body`` at the end of load step ``step``
-        (:func:`~bemcontact.multiscale.stress.grid_stresses`)."""
-        return grid_stresses(self, body, points, step)
-
-    def surface_stresses(self, body: str, step: int = -1) -> np.ndarray:
-        """The stress tensor (n, 6) on ``body``'s surface at each grid cell
-        (:func:`~bemcontact.multiscale.stress.grid_surface_stresses`)."""
-        return grid_surface_stresses(self, body, step)
-
-    def surface_points(self, body: str) -> np.ndarray:
-        """(n, 3) the points of ``body``'s surface where :meth:`surface_stresses`
-        gives the stresses (:func:`~bemcontact.multiscale.stress.grid_surface_points`)."""
-        return grid_surface_points(self, body)
-
-    @property
-    def converged(self) -> bool:
-        return all(r.converged for r in self.records)
-
-    @property
-    def points(self) -> np.ndarray:
-        """(n, 3) the cell centres in global coordinates."""
-        return self.origin + self.grid.centres @ self.axes
-
-    def summary(self) -> dict:
-        """JSON-ready: the method, the grid, the corrections' estimates, and
-        per step the forces, the rigid displacement, the contact area and
-        counts, and the checks."""
-        g = self.grid
-        steps = []
-        for s in self.history:
-            closed = s.state != OPEN
-            steps.append({
-                "label": s.label,
-                "contact_force": (s.force @ self.axes).tolist(),
-                "normal_force": float(s.force[2]),
-                "tangential_force": float(np.hypot(s.force[0], s.force[1])),
-                "rigid_displacement": (s.d @ self.axes).tolist(),
-                "contact_area": float(closed.sum() * g.cell_area),
-                "cells": {"closed": int(closed.sum()), "stick": int((s.state == STICK).sum()),
-                          "slip": int((s.state == SLIP).sum())},
-                "peak_pressure": float(s.p[:, 2].max(initial=0.0)),
-                "verification": s.checks,
-            })
-        return {
-            "method": {"used": "multiscale", **self.method},
-            "grid": {"nx": g.nx, "ny": g.ny, "cell_size": [g.dx, g.dy],
-                     "origin": self.origin.tolist(), "axes": self.axes.tolist()},
-            "corrections": {c.body.name: {"estimate": c.estimate, "anchor_error": c.anchor_error,
-                                          "fit_error": c.fit_error, "coarse_nodes":
-                                          int(c.body.discretization.n_points),
-                                          "curvature": list(c.curvature), "seconds": c.seconds}
-                            for c in self.corrections},
-            "newton_iterations": [r.iterations for r in self.records],
-            "krylov_iterations": [r.krylov_iterations for r in self.records],
-            "timings": self.timings,
-            "steps": steps,
-        }
 
 
 def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
@@ -365,6 +263,19 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
     pair_c = Compliance.pair(m1.shear_modulus, m1.poisson_ratio, m2.shear_modulus,
                              m2.poisson_ratio)
     mu = float(pair.friction_coefficient)
+    for i, step in enumerate(steps):
+        if step.rolling is None:
+            continue
+        where = {"step": i, "field": "rolling"}
+        if mu == 0.0:
+            raise ConfigError(f"step {i + 1}{f' ({step.label})' if step.label else ''} rolls a "
+                              "frictionless pair: rolling carries no creep force without "
+                              "friction; give contact.friction_coefficient > 0", location=where)
+        try:  # the direction against the contact plane, before any solve
+            GridRolling(step.rolling, Grid.centred(4, 4, 1.0, 1.0), axes)
+        except ConfigError as exc:
+            exc.location.update(where)
+            raise
 
     def gap_on(grid):
         c = grid.centres
@@ -384,6 +295,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
         out, records, solutions = [], [], []
         for i, ((force, shift), step) in enumerate(zip(targets, steps)):
             n_inc = step.increments
+            rolling = None if step.rolling is None else GridRolling(step.rolling, grid, axes)
             for k in range(1, n_inc + 1):
                 t = k / n_inc
                 f = np.where(np.isnan(force), np.nan, prev_f + t * (np.nan_to_num(force) - prev_f))
@@ -392,7 +304,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
                 if coarse is not None and not np.any(gi.p[:, 2] > 0.0):
                     cg, (cp, cd) = coarse[0], coarse[1][len(solutions)]
                     guess = (_prolong(cg, cp, grid), cd)
-                rec = gi.solve_increment(f, s, guess)
+                rec = gi.solve_increment(f, s, guess, rolling)
                 solutions.append((gi.p.copy(), gi.d.copy()))
                 records.append(rec)
                 if not rec.converged:
@@ -404,7 +316,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             prev_f = np.where(np.isnan(force), gi.force(), force)
             prev_s = gi.d.copy()
             if report:
-                out.append(_state(gi, step.label or f"step {i + 1}", force))
+                out.append(verified_state(gi, step.label or f"step {i + 1}", force))
             else:
                 out.append(gi.state())
         return out, records, gi, solutions
@@ -542,34 +454,6 @@ def _prolong(coarse: Grid, p: np.ndarray, fine: Grid) -> np.ndarray:
         for c in range(3)], axis=1)
     out[:, 2] = np.maximum(out[:, 2], 0.0)
     return out
-
-
-def _state(gi: GridInterface, label: str, target) -> GridState:
-    k = gi.k(gi.p, gi.d)
-    state = gi.state()
-    p = gi.p
-    sigma = max(float(np.abs(p).max(initial=0.0)), 1e-300)
-    r = float(np.max(gi.law.r))
-    q = np.linalg.norm(p[:, :2], axis=1)
-    mu = np.broadcast_to(gi.law.mu, (gi.n,))
-    F = gi.force()
-    free = np.isfinite(target)
-    checks = {
-        "penetration": {"worst": float(max(-k[:, 2].min(initial=0.0), 0.0)),
-                        "tolerance": EPS * sigma / r},
-        "tension": {"worst": float(max(-p[:, 2].min(initial=0.0), 0.0)), "tolerance": EPS * sigma},
-        "complementarity": {"worst": float(np.abs(p[:, 2] * k[:, 2]).max(initial=0.0)),
-                            "tolerance": EPS * sigma * sigma / r},
-        "cone": {"worst": float(max((q - mu * p[:, 2]).max(initial=0.0), 0.0)),
-                 "tolerance": EPS * sigma},
-        "force": {"worst": float(np.abs(F[free] - target[free]).max(initial=0.0)),
-                  "tolerance": EPS * max(float(np.abs(F).max()), 1e-300)},
-    }
-    failed = [n for n, c in checks.items() if c["worst"] > c["tolerance"]]
-    if failed:
-        raise ConvergenceError(f"{label}: the grid solution fails the {', '.join(failed)} "
-                               f"check(s) ({checks[failed[0]]})")
-    return GridState(label, p.copy(), k, state, gi.d.copy(), F, checks)
 
 
 __all__ = ["LIMITS", "GridOptions", "GridResult", "GridState", "applicability", "contact_plane",

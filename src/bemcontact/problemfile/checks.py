@@ -110,6 +110,9 @@ class Checker:
             return value
         if key.type == "vector":
             return self.vector(where, value)
+        if key.type == "pair":
+            return [self.number(f"{where}[{a}]", v)
+                    for a, v in enumerate(self.array(where, value, 2))]
         if key.type == "components":
             return self.vector(where, value, free=True)
         if key.type == "strings":

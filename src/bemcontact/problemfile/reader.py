@@ -69,6 +69,7 @@ from .method import on_grid
 from .pairs import read_pairs
 from .sizes import check_body_size, check_generated_size
 from .stresses import stress_requests
+from .rolling import step_rolling
 
 #: Body names must be usable as file names (results are written to ``<name>.vtu``).
 NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_-]*$")
@@ -344,8 +345,7 @@ class _Reader(Checker):
             where = f"step[{k}]"
             t = self.table(where, raw, schema.STEP)
             f = self.fields(where, t, schema.STEP)
-            bwhere = f"{where}.boundary_conditions"
-            bcs = t.get("boundary_conditions", {})
+            bwhere, bcs = f"{where}.boundary_conditions", t.get("boundary_conditions", {})
             if not isinstance(bcs, dict):
                 self.fail(bwhere, f"must be a table of bodies, not {a_type(bcs)}", bcs)
             changes = {}
@@ -356,7 +356,8 @@ class _Reader(Checker):
                 i = names.index(name)
                 changes[name] = self.boundary_conditions(
                     f"{bwhere}.{name}", regions, meshes[i], surfaces[i])
-            out.append(LoadStep(changes, f["increments"], f["label"]))
+            rolling = step_rolling(self, f"{where}.rolling", t.get("rolling"))
+            out.append(LoadStep(changes, f["increments"], f["label"], rolling))
         return tuple(out)
 
     def units(self, value: Any) -> dict[str, str]:

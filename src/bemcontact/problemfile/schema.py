@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from ..bem.material import LinearElastic
 from ..contact.options import CONDENSATION_LINEAR, SolverOptions
+from ..contact.rolling import Rolling
 from ..contact.pair import FRAME_RULES, ContactPair
 from ..contact.history import LoadStep
 from ..linalg.options import HMatrixOptions, LinearSolverOptions
@@ -268,6 +269,28 @@ STEP = Key(
     "bodies' conditions are applied in `solver.load_steps` increments.",
     keys=(
         *keys_of(LoadStep, "label", "increments"),
+        Key("rolling", "table", "the step rolls the bodies: rolling direction, Kalker's "
+            "creepages and spin, steady or transient", default=None, section="step.rolling",
+            notes="Conventions (docs/theory.md, \"Rolling\"): the contact moves over the "
+            "bodies in `direction` (its leading edge is ahead); the creepages ξ (along it), η "
+            "(across it, along n × direction, n the contact normal from the first body into "
+            "the second) and the spin φ (about n) are the rigid velocity of the second body's "
+            "surface relative to the first's divided by the rolling speed, so the rigid slip "
+            "per rolled distance is (ξ − φ y, η + φ x). A tangential component the supports "
+            "control by force is solved for: its creepage (steady) or its rigid shift "
+            "(transient) carries the force. `summary.json` gets per step `rolling`: "
+            "`creep_force` [F_x, F_y] on the second body in the rolling frame, "
+            "`creep_force_ratio` (over μ F_n), `spin_moment`, `frictional_power` (with "
+            "`speed`) and `frictional_work_per_distance`, `adhesion_area`, `slip_area` and the "
+            "creepages in effect. Solved on the contact grid (`contact.method` = "
+            "`\"multiscale\"` or `\"auto\"`), the rolling direction along one of its axes.",
+            keys=(
+                Key("direction", "vector", "the rolling direction (tangent to the contact)",
+                    True),
+                Key("creepage", "pair", "[ξ, η], Kalker's longitudinal and lateral creepages "
+                    "(dimensionless)", default=[0.0, 0.0]),
+                *keys_of(Rolling, "spin", "mode", "distance", "speed"),
+            )),
         Key("boundary_conditions", "map", "`<body>.<region>` condition tables (as in "
             "`body.boundary_conditions`) that change at this step; all others keep their "
             "values", default={},
@@ -352,6 +375,7 @@ def _type_text(k: Key) -> str:
         "components": "[x, y, z], each a number or `\"free\"`",
         "number-or-vector": "number or [x, y, z]",
         "number-or-pair": "number or [u, v]",
+        "pair": "[u, v] numbers",
         "integer-or-pair": "integer or [u, v]",
         "integer-or-vector": "integer or [x, y, z]",
         "strings": f"{k.length} strings",
