@@ -114,7 +114,8 @@ class Rolling:
         off = abs(float(x @ n))
         if off > 1e-6:
             angle = math.degrees(math.asin(min(off, 1.0)))
-            raise ConfigError(f"rolling.direction {list(self.direction)} is not tangent to the "
+            raise ConfigError(f"rolling.direction {np.round(x, 6).tolist()} (normalized) is not "
+                              "tangent to the "
                               f"contact (normal {np.round(n, 6).tolist()}; {angle:.3g} degrees "
                               "off the plane): give a direction in the contact plane",
                               location={"field": "rolling.direction"})

@@ -268,14 +268,13 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             continue
         where = {"step": i, "field": "rolling"}
         if mu == 0.0:
-            raise ConfigError(f"step {i + 1}{f' ({step.label})' if step.label else ''} rolls a "
-                              "frictionless pair: rolling carries no creep force without "
-                              "friction; give contact.friction_coefficient > 0", location=where)
+            raise ConfigError(f"step[{i}].rolling: a frictionless pair: rolling carries no "
+                              "creep force without friction; give contact.friction_coefficient "
+                              "> 0", location=where)
         try:  # the direction against the contact plane, before any solve
             GridRolling(step.rolling, Grid.centred(4, 4, 1.0, 1.0), axes)
         except ConfigError as exc:
-            exc.location.update(where)
-            raise
+            raise ConfigError(f"step[{i}].{exc}", location={**exc.location, **where}) from None
 
     def gap_on(grid):
         c = grid.centres

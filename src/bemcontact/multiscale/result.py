@@ -179,7 +179,8 @@ def verified_state(gi, label: str, target) -> GridState:
             "normal_force": fn,
             "creep_force_ratio": [c / (float(np.max(mu)) * fn) if fn > 0 else 0.0
                                   for c in rolling["creep_force"]],
-            "rolled_distance_per_increment": ro.distance})
+            "rolled_distance_per_increment": ro.distance,
+            "speed_used": 1.0 if ro.rolling.speed is None else ro.rolling.speed})
     return GridState(label, p.copy(), k, state, gi.d.copy(), F, checks, rolling, slip)
 
 

@@ -42,7 +42,7 @@ class GridRolling:
         local = frame[:2] @ axes[:2].T  # x_r, y_r in (t1, t2) components
         a = int(np.argmax(np.abs(local[0])))
         if abs(local[0, a]) < 1.0 - 1e-9:
-            raise ConfigError(f"rolling.direction {list(rolling.direction)} is not along an "
+            raise ConfigError(f"rolling.direction {np.round(frame[0], 6).tolist()} is not along an "
                               "axis of the contact grid (its axes are "
                               f"{np.round(axes[0], 6).tolist()} and "
                               f"{np.round(axes[1], 6).tolist()}): method = \"multiscale\" rolls "

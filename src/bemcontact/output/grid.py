@@ -10,6 +10,8 @@ full result:
   pressure and the checks of the contact conditions;
 * ``grid.csv``: per cell its centre (global), pressure, tangential traction
   (global), gap, relative tangential displacement and state, at the last step;
+  when that step rolls, also the micro-slip per rolled distance (global) and
+  the frictional power density (per unit rolling speed without ``speed``);
 * ``grid.vtu``: the cells as quadrilaterals with those fields as cell data,
   and each body's surface stresses there (``<body>_stress``, 6 components,
   ``<body>_von_mises``, ``<body>_tresca``, ``<body>_max_principal``);
@@ -39,6 +41,8 @@ from .write import OutputOptions, figures_by_default, require_matplotlib, summar
 #: Columns of ``grid.csv``.
 GRID_COLUMNS = ("x", "y", "z", "pressure", "tx", "ty", "tz", "gap", "slip_x", "slip_y",
                 "slip_z", "state")
+#: Columns ``grid.csv`` adds when its step rolls.
+ROLLING_COLUMNS = ("microslip_x", "microslip_y", "microslip_z", "power_density")
 
 
 def _fields(result: GridResult):
@@ -48,8 +52,15 @@ def _fields(result: GridResult):
     traction[:, :2] = s.p[:, :2]
     slip = np.zeros_like(s.k)
     slip[:, :2] = s.k[:, :2]
-    return {"pressure": s.p[:, 2], "tangential_traction": traction @ A, "gap": s.k[:, 2],
-            "slip": slip @ A, "state": s.state.astype(np.int32)}
+    out = {"pressure": s.p[:, 2], "tangential_traction": traction @ A, "gap": s.k[:, 2],
+           "slip": slip @ A, "state": s.state.astype(np.int32)}
+    if s.slip is not None:
+        micro = np.zeros_like(s.k)
+        micro[:, :2] = s.slip
+        speed = s.rolling.get("speed_used", 1.0)
+        out["microslip"] = micro @ A
+        out["frictional_power_density"] = -np.einsum("ij,ij->i", s.p[:, :2], s.slip) * speed
+    return out
 
 
 def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirectory,
@@ -80,7 +91,11 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
         if opt.csv:
             table = np.column_stack([result.points, f["pressure"], f["tangential_traction"],
                                      f["gap"], f["slip"], f["state"].astype(float)])
-            write_csv(tmp / "grid.csv", GRID_COLUMNS, table, ("state",))
+            columns = GRID_COLUMNS
+            if "microslip" in f:
+                table = np.column_stack([table, f["microslip"], f["frictional_power_density"]])
+                columns = columns + ROLLING_COLUMNS
+            write_csv(tmp / "grid.csv", columns, table, ("state",))
         if opt.vtu:
             points, quads = _quads(result)
             cells = dict(f)
@@ -152,7 +167,13 @@ def report(result: GridResult, note: str, unit: str, force, tolerance: float) ->
         f"  normal force      {force(last['normal_force'], floor, unit)}",
         f"  tangential force  {force(last['tangential_force'], floor, unit)}",
         f"  grid ({result.grid.size} cells): {last['cells']['closed']} closed, "
-        f"{last['cells']['stick']} stick, {last['cells']['slip']} slip"])
+        f"{last['cells']['stick']} stick, {last['cells']['slip']} slip"]
+        + ([] if "rolling" not in last else [
+            f"  rolling ({last['rolling']['mode']}): creep force "
+            f"[{', '.join(force(v, floor, unit) for v in last['rolling']['creep_force'])}] = "
+            f"[{', '.join(f'{v:.4g}' for v in last['rolling']['creep_force_ratio'])}] mu Fn "
+            f"at creepage [{', '.join(f'{v:.4g}' for v in last['rolling']['creepage'])}], "
+            f"spin {last['rolling']['spin']:.4g}"]))
 
 
-__all__ = ["GRID_COLUMNS", "report", "write_grid_results"]
+__all__ = ["GRID_COLUMNS", "ROLLING_COLUMNS", "report", "write_grid_results"]

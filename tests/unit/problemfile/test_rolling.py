@@ -1,0 +1,43 @@
+"""A [[step]]'s rolling table through `bemcontact run`: bad input is one
+line naming the field, exit 2, and nothing written."""
+
+from __future__ import annotations
+
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+EXAMPLE = pathlib.Path(__file__).parents[3] / "examples" / "rolling_ball_multiscale.toml"
+ROLLING = ('rolling = { direction = [1, 0, 0], creepage = [-0.0005, 0.0], spin = 0.0, '
+           'mode = "steady", speed = 1000.0 }')
+
+
+def run(tmp_path, text):
+    src = EXAMPLE.read_text()
+    assert ROLLING in src
+    path = tmp_path / "p.toml"
+    path.write_text(src.replace(ROLLING, text) if text.startswith("rolling") else
+                    src.replace("friction_coefficient = 0.3", text))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "bemcontact", "run", str(path), "--out",
+                           str(out), "--quiet"], capture_output=True, text=True)
+    return proc, out
+
+
+@pytest.mark.parametrize("text, says", [
+    ('rolling = { direction = [1, 0, 0.5] }', "step[1].rolling.direction"),
+    ('rolling = { direction = [1, 0, 0], mode = "transient" }', "step[1].rolling.distance"),
+    ('rolling = { direction = [1, 0, 0], distance = 0.01 }', "step[1].rolling.distance"),
+    ('rolling = { direction = [1, 0, 0], creepage = [1, 2, 3] }', "step[1].rolling.creepage"),
+    ('rolling = { direction = [1, 0, 0], mode = "stedy" }', "step[1].rolling.mode"),
+    ('friction_coefficient = 0.0', "frictionless"),
+])
+def test_bad_rolling_input_is_one_line_exit_2_nothing_written(tmp_path, text, says):
+    proc, out = run(tmp_path, text)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and says in lines[0], proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert not out.exists()
