@@ -38,7 +38,7 @@ from ..problemfile.checks import Checker, a_type, one_line, suggest
 #: Most points of one sweep (a full factorial grows fast).
 MAX_POINTS = 10_000
 #: Value types of a varied key.
-_VECTORS = ("vector", "components", "number-or-vector", "integer-or-vector", "strings")
+_VECTORS = ("vector", "components", "number-or-vector", "integer-or-vector", "strings", "pair")
 _NAME = re.compile(r"^([^\[\]]+)((?:\[\d+\])*)$")
 
 
@@ -96,6 +96,8 @@ def check_key(chk: Checker, text: str) -> list[str | int]:
             if (key.type == "tables" or key is schema.CONTACT) and not element:
                 element = True
             elif key.type in _VECTORS and i == len(tokens) - 1:
+                if key.type == "pair" and tok > 1:
+                    chk.fail(where, f"{shown} has 2 components, [0] and [1]", text)
                 if tok > 2 and key.type != "strings":
                     chk.fail(where, f"{shown} has 3 components, [0] to [2]", text)
             else:

@@ -25,6 +25,15 @@ FIGURE_OUTPUTS = ("normal_force", "tangential_force", "slip_area", "peak_pressur
                   "newton_iterations")
 
 
+#: Outputs of a point whose last step rolls (columns after :data:`OUTPUTS`
+#: when any point rolls): the creep force on the second body in the rolling
+#: frame, its ratios to μ F_n (the creep–force curve), the spin moment, the
+#: frictional power and the adhesion area.
+ROLLING_OUTPUTS = ("creep_force_x", "creep_force_y", "creep_ratio_x", "creep_ratio_y",
+                   "spin_moment", "frictional_power", "adhesion_area")
+#: Rolling outputs drawn in ``sweep.png`` when the points roll.
+ROLLING_FIGURE_OUTPUTS = ("creep_ratio_x", "creep_ratio_y")
+
 #: Outputs repeated per contact pair of an assembly, as ``pair<k>.<name>``
 #: columns (k from 1, in the problem's order) after :data:`OUTPUTS`; the
 #: columns of :data:`OUTPUTS` hold the first pair's.
@@ -88,6 +97,21 @@ def grid_outputs(result) -> dict[str, Any]:
         "force_x": float(force[0]), "force_y": float(force[1]), "force_z": float(force[2]),
         "newton_iterations": int(sum(r.iterations for r in result.records)),
         "increments": len(result.records),
+        **_rolling_outputs(last.rolling),
+    }
+
+
+def _rolling_outputs(rolling: dict | None) -> dict[str, Any]:
+    if rolling is None:
+        return {}
+    power = rolling["frictional_power"]
+    return {
+        "creep_force_x": rolling["creep_force"][0], "creep_force_y": rolling["creep_force"][1],
+        "creep_ratio_x": rolling["creep_force_ratio"][0],
+        "creep_ratio_y": rolling["creep_force_ratio"][1],
+        "spin_moment": rolling["spin_moment"],
+        "frictional_power": rolling["frictional_work_per_distance"] if power is None else power,
+        "adhesion_area": rolling["adhesion_area"],
     }
 
 
@@ -126,7 +150,8 @@ def write_table(out: pathlib.Path, keys: list[str], rows: list[dict]) -> list[pa
     """``table.csv`` (and ``table.parquet`` with pyarrow) in ``out``: one
     row per point, ``point``, the swept keys, then :data:`OUTPUTS` (and an
     assembly's ``pair<k>.*`` columns, :data:`PAIR_OUTPUTS`)."""
-    cols = ["point", *keys, *OUTPUTS, *_pair_columns(rows)]
+    rolls = [c for c in ROLLING_OUTPUTS if any(c in r for r in rows)]
+    cols = ["point", *keys, *OUTPUTS, *rolls, *_pair_columns(rows)]
 
     def csv_file(tmp):
         with open(tmp, "w", newline="", encoding="utf-8") as f:
@@ -181,20 +206,23 @@ def write_figure(out: pathlib.Path, keys: list[str], rows: list[dict]) -> pathli
     import matplotlib.pyplot as plt
 
     ok = [r for r in rows if r.get("status") == "ok"]
-    fig, axes = plt.subplots(len(FIGURE_OUTPUTS), len(axes_keys), squeeze=False,
-                             figsize=(4.2 * len(axes_keys), 2.4 * len(FIGURE_OUTPUTS)))
+    drawn = [*FIGURE_OUTPUTS, *(c for c in ROLLING_FIGURE_OUTPUTS
+                                if ok and all(c in r for r in ok))]
+    fig, axes = plt.subplots(len(drawn), len(axes_keys), squeeze=False,
+                             figsize=(4.2 * len(axes_keys), 2.4 * len(drawn)))
     for j, k in enumerate(axes_keys):
         others = [o for o in keys if o != k]
         lines: dict[str, list[dict]] = {}
         for r in ok:
             lines.setdefault(", ".join(f"{o} = {_cell(r.get(o))}" for o in others), []).append(r)
-        for i, name in enumerate(FIGURE_OUTPUTS):
+        for i, name in enumerate(drawn):
             ax = axes[i][j]
             for label, rs in lines.items():
                 rs = sorted(rs, key=lambda r: r[k])
                 ax.plot([r[k] for r in rs], [r[name] for r in rs], "o-", label=label or None)
             ax.set_xlabel(k, fontsize=8)
-            ax.set_ylabel(name.replace("_", " "), fontsize=8)
+            ax.set_ylabel("F_x / (μ F_n)" if name == "creep_ratio_x" else "F_y / (μ F_n)"
+                          if name == "creep_ratio_y" else name.replace("_", " "), fontsize=8)
             ax.tick_params(labelsize=7)
         if others and len(lines) <= 8:
             axes[0][j].legend(fontsize=6)
@@ -205,5 +233,5 @@ def write_figure(out: pathlib.Path, keys: list[str], rows: list[dict]) -> pathli
     return path
 
 
-__all__ = ["FIGURE_OUTPUTS", "OUTPUTS", "PAIR_OUTPUTS", "numeric_keys", "outputs", "read_table", "write_figure",
+__all__ = ["FIGURE_OUTPUTS", "OUTPUTS", "PAIR_OUTPUTS", "ROLLING_OUTPUTS", "numeric_keys", "outputs", "read_table", "write_figure",
            "write_table"]

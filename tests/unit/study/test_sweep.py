@@ -368,3 +368,32 @@ def test_a_point_follows_its_pairs_method_on_the_grid(tmp_path):
     assert row["tangential_force"] == pytest.approx(396.0, rel=1e-9)  # the platen force
     assert row["stick"] > 0 and row["slip"] > 0 and row["increments"] == 5
     assert (out / "grid.csv").is_file() and not (out / "frame.csv").exists()
+
+
+def test_a_rolling_point_has_the_creep_force_columns(tmp_path):
+    """A point whose last step rolls: its row holds the creep force on the
+    second body in the rolling frame and its ratio to mu F_n (the example's
+    F_x = 40.06 N, tests/test_examples.py), and the table its columns; a
+    creepage component is a sweep key ([0] or [1] of the pair)."""
+    import pathlib
+
+    from bemcontact.problemfile.checks import Checker
+    from bemcontact.errors import ConfigError
+    from bemcontact.study.points import check_key
+    from bemcontact.study.sweep import run_point
+    from bemcontact.study.table import ROLLING_OUTPUTS, read_table, write_table
+
+    example = pathlib.Path(__file__).resolve().parents[3] / "examples" / "rolling_ball_multiscale.toml"
+    text = example.read_text().replace("[contact]", '[output]\nfigures = false\ndefault_stresses = false\n\n[contact]', 1)
+    point = tmp_path / "point.toml"
+    point.write_text(text)
+    row = run_point(str(point), str(tmp_path / "out"), "g", str(tmp_path / "cache"), 1)
+    assert row["status"] == "ok", row
+    assert row["creep_force_x"] == pytest.approx(40.063, rel=1e-3)
+    assert row["creep_ratio_x"] == pytest.approx(40.063 / (0.3 * row["normal_force"]), rel=1e-3)
+    write_table(tmp_path, [], [row])
+    assert set(ROLLING_OUTPUTS) <= set(read_table(tmp_path / "table.csv")[0])
+    chk = Checker("f.toml", tmp_path)
+    assert check_key(chk, "step[1].rolling.creepage[1]") == ["step", 1, "rolling", "creepage", 1]
+    with pytest.raises(ConfigError, match=r"has 2 components"):
+        check_key(chk, "step[1].rolling.creepage[2]")
