@@ -137,19 +137,46 @@ def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
     length = (units or {}).get("length", "")
     extent = (g.origin[0], g.origin[0] + g.nx * g.dx, g.origin[1], g.origin[1] + g.ny * g.dy)
     q = np.linalg.norm(f["tangential_traction"], axis=1)
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2), constrained_layout=True)
+    last = result.history[-1]
+    rolls = last.rolling is not None
+    fig, axes = plt.subplots(1, 3 if rolls else 2, figsize=(15 if rolls else 10, 4.2),
+                             constrained_layout=True)
     for ax, values, name in ((axes[0], f["pressure"], "pressure"),
                              (axes[1], q, "tangential traction")):
         im = ax.imshow(values.reshape(g.nx, g.ny).T, origin="lower", extent=extent,
                        cmap="viridis")
         ax.set_title(name)
+        fig.colorbar(im, ax=ax, label=f"{name} [{stress}]" if stress else name)
+    if rolls:
+        _adhesion_map(fig, axes[2], result, extent)
+    for ax in axes:
         ax.set_xlabel(f"t1 [{length}]" if length else "t1")
         ax.set_ylabel(f"t2 [{length}]" if length else "t2")
-        fig.colorbar(im, ax=ax, label=f"{name} [{stress}]" if stress else name)
     fig.suptitle(f"the contact grid, {g.nx} × {g.ny} cells of {g.dx:.3g}"
                  + (f" {length}" if length else "") + f", step {result.history[-1].label}")
     save_png(fig, path)
     plt.close(fig)
+
+
+def _adhesion_map(fig, ax, result: GridResult, extent) -> None:
+    """The adhesion/slip map of a rolling step, the rolling direction an
+    arrow from the trailing to the leading edge."""
+    from matplotlib.colors import ListedColormap
+
+    g = result.grid
+    last = result.history[-1]
+    ax.imshow(last.state.reshape(g.nx, g.ny).T, origin="lower", extent=extent, vmin=0, vmax=2,
+              cmap=ListedColormap(["#f0f0f0", "#2b83ba", "#d7191c"]), interpolation="nearest")
+    direction = np.asarray(last.rolling["direction"]) @ result.axes[:2].T
+    span = 0.35 * min(extent[1] - extent[0], extent[3] - extent[2])
+    cx, cy = 0.5 * (extent[0] + extent[1]), 0.5 * (extent[2] + extent[3])
+    ax.annotate("", xy=(cx + span * direction[0], cy + span * direction[1]),
+                xytext=(cx - span * direction[0], cy - span * direction[1]),
+                arrowprops={"arrowstyle": "->", "lw": 2.0, "color": "k"})
+    ax.text(cx + span * direction[0], cy + span * direction[1], " rolling", fontsize=8)
+    ratio = last.rolling["creep_force_ratio"]
+    ax.set_title(f"adhesion (blue) and slip (red), F/(μF_n) = [{ratio[0]:.3g}, {ratio[1]:.3g}]",
+                 fontsize=9)
 
 
 def report(result: GridResult, note: str, unit: str, force, tolerance: float) -> str:
