@@ -172,3 +172,18 @@ def test_grid_stress_points_benchmark_smoke():
     assert 0.30 < row["tresca_max_p0"] < 0.32, row
     for k in ("wall_s", "cpu_s", "scattered_wall_s", "per_point_us", "peak_rss_mb"):
         assert row[k] > 0, k
+
+
+def test_rolling_contact_cases_benchmark_smoke(capsys):
+    """One run of 4 creep-force points: the curve at CONTACT's creepages
+    within 1.5e-4 of its values (the same discretization) and the spin case
+    with CONTACT's offset at its -0.6074."""
+    spec = importlib.util.spec_from_file_location("b_rc", BENCH / "rolling_contact_cases.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    out = mod.main(["--repeat", "1", "--points", "4"])
+    got, want = out["curve"]["0.0004"]
+    assert abs(got - want) < 1.5e-4
+    assert abs(out["spin_44"][1] + 0.6074) < 1e-4
+    assert all(r["wall"] > 0 and r["cpu"] > 0 for r in out["rows"].values())
+    assert "CONTACT -0.2588" in capsys.readouterr().out
