@@ -78,7 +78,7 @@ def closed_text(system, pairs, z, ell) -> str:
     if len(pairs) < 2:
         return ""
     lam, _ = system.split(z)
-    state = system.law.state(lam.reshape(-1, 3), system.k(z, ell))
+    state = system.law.state(lam.reshape(-1, 3), system.law_k(z, ell))
     parts = []
     for p, pair in enumerate(pairs):
         st = state[system.frames.slice(p)]

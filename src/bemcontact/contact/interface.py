@@ -100,6 +100,13 @@ class InterfaceSystem:
         # the history starts from the relative tangential positions
         self.law.reference = self.k0X.reshape(-1, 3)[:, :2].copy()
         self._dk: tuple | None = None  # (cdofs, cols, K rows): _rows_of_k
+        #: what the law sees in a steady rolling step: the affine map
+        #: (K, k0X, k0u) with its tangential rows differenced (:meth:`roll`);
+        #: None: the physical map k(z)
+        self._law_map = None
+        #: the :class:`~bemcontact.contact.rolling.FrameRolling` of the
+        #: current increment (None: no rolling)
+        self.rolling = None
         # dk/dz = [K, L...] (3m, nz) and the linear rows besides the law (ne, nz)
         self._Lz, self._eq = Lz, eq
 
@@ -119,6 +126,19 @@ class InterfaceSystem:
     def k(self, z: np.ndarray, ell: np.ndarray) -> np.ndarray:
         lam, parts = self.split(z)
         kk = self.k0X + self.k0u @ ell + self.K @ lam
+        for L, v in zip(self.L, parts):
+            if v.size:
+                kk = kk + L @ v
+        return kk.reshape(-1, 3)
+
+    def law_k(self, z: np.ndarray, ell: np.ndarray) -> np.ndarray:
+        """(m, 3) what the law sees: :meth:`k`, whose tangential part in a
+        steady rolling step is the convected slip per shift (:meth:`roll`)."""
+        if self._law_map is None:
+            return self.k(z, ell)
+        K, k0X, k0u, _ = self._law_map
+        lam, parts = self.split(z)
+        kk = k0X + k0u @ ell + K @ lam
         for L, v in zip(self.L, parts):
             if v.size:
                 kk = kk + L @ v
@@ -162,6 +182,42 @@ class InterfaceSystem:
 
         self.law.start_increment(kz, self.pair_of, self.size, lam, influence, reference)
 
+    def roll(self, z: np.ndarray, ell: np.ndarray, rolling=None) -> None:
+        """Before an increment of a rolling step (a
+        :class:`~bemcontact.contact.rolling.FrameRolling`; instead of
+        :meth:`start_increment`), from the converged ``z`` at load ``ell``:
+        the law's convected stick reference (:meth:`~.law.CoulombLaw.convect`).
+        Transient: S k_t − Δq w.  Steady: the law sees the convected slip per
+        shift, k_t → (I − S)(K λ + k0u ℓ)_t + Δq w + (L v)_t, so the affine
+        map's tangential rows are differenced here (the rigid unknowns' L v
+        is not: a force-controlled component's platen shift becomes Δq times
+        its extra creepage, as on the grid) and the reference is zero
+        (:meth:`law_k`; :meth:`k` stays the physical map).  ``rolling``
+        None: :meth:`start_increment`."""
+        if rolling is None:
+            if self._law_map is not None:
+                self._law_map, self._dk = None, None
+            self.rolling = None
+            self.start_increment(z, ell)
+            return
+        self.rolling = rolling
+        if not rolling.steady:
+            self._law_map, self._dk = None, None
+            self.law.convect(rolling.reference(self.k(z, ell)[:, :2]))
+            return
+        if self._law_map is None or self._law_map[3] is not rolling:
+            t = np.sort(np.concatenate([np.arange(0, 3 * self.m, 3),
+                                        np.arange(1, 3 * self.m, 3)]))
+            S = rolling.S
+            K = self.K.copy()
+            K[t] -= S @ self.K[t]
+            k0u = self.k0u.copy()
+            k0u[t] -= S @ self.k0u[t]
+            k0X = self.k0X.copy()
+            k0X[t] = (rolling.distance[:, None] * rolling.w).ravel()
+            self._law_map, self._dk = (K, k0X, k0u, rolling), None
+        self.law.convect(np.zeros((self.m, 2)))
+
     def _rows(self, lam, parts, ell):
         """Linear equations besides the law: free-mode equilibrium and the
         prescribed resultants of controlled components (traction units)."""
@@ -179,13 +235,13 @@ class InterfaceSystem:
 
     def residual(self, z, ell):
         lam, parts = self.split(z)
-        phi = self.law.residual(lam.reshape(-1, 3), self.k(z, ell)).ravel()
+        phi = self.law.residual(lam.reshape(-1, 3), self.law_k(z, ell)).ravel()
         eq = self._rows(lam, parts, ell)
         return np.concatenate([phi, *eq]) if eq else phi
 
     def _law(self, z, ell):
         lam, _ = self.split(z)
-        Jl, Jk, state = self.law.jacobian(lam.reshape(-1, 3), self.k(z, ell))
+        Jl, Jk, state = self.law.jacobian(lam.reshape(-1, 3), self.law_k(z, ell))
         closed = np.flatnonzero(state != law.OPEN)
         return Jl, Jk, state, closed, (3 * closed[:, None] + np.arange(3)).ravel()
 
@@ -203,7 +259,8 @@ class InterfaceSystem:
         m3 = 3 * self.m
         lc, ec = cols[cols < m3], cols[cols >= m3] - m3
         dk = np.empty((cdofs.size, cols.size))
-        dk[:, : lc.size] = self.K[np.ix_(cdofs, lc)]
+        K = self.K if self._law_map is None else self._law_map[0]
+        dk[:, : lc.size] = K[np.ix_(cdofs, lc)]
         dk[:, lc.size :] = self._Lz[np.ix_(cdofs, ec)]
         self._dk = (cdofs.copy(), cols.copy(), dk)
         return dk
@@ -257,7 +314,8 @@ class InterfaceSystem:
         is_open = np.ones(m3, dtype=bool)
         is_open[cdofs] = False
         dlam = np.where(is_open, -phi[:m3], 0.0)  # the open part of dz (extras: 0)
-        dk = (self.K @ dlam)[cdofs].reshape(closed.size, 3)
+        K = self.K if self._law_map is None else self._law_map[0]
+        dk = (K @ dlam)[cdofs].reshape(closed.size, 3)
         b = -phi[keep]
         b[: cdofs.size] -= np.einsum("jab,jb->ja", Jk[closed], dk).ravel()
         b[cdofs.size :] -= self._eq[:, :m3] @ dlam

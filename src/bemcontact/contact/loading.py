@@ -17,7 +17,48 @@ from .newton import NewtonSteps
 from .predictor import Predictor
 from .recovery import Recovery
 from .results import ContactResult, StepRecord
+from .rolling import FrameRolling, rolling_quantities
 from .verification import verified
+
+
+def frame_rolling(system, step):
+    """The :class:`~.rolling.FrameRolling` of ``step`` on the system's
+    active frame nodes (None when it does not roll)."""
+    if step.rolling is None:
+        return None
+    fs = system.frames
+    return FrameRolling(step.rolling, fs.points, fs.Q, fs.size, fs.weights, fs.pair_of)
+
+
+def rolled(system, z, ell) -> dict | None:
+    """A rolling increment's quantities at its converged ``z``
+    (:func:`~.rolling.rolling_quantities`, the first pair's), while the
+    system still sees the convected slip; None when it does not roll."""
+    ro = system.rolling
+    if ro is None:
+        return None
+    from .law import OPEN, STICK
+
+    lam = system.split(z)[0].reshape(-1, 3)
+    k = system.law_k(z, ell)
+    state = system.law.state(lam, k)
+    slip = (k[:, :2] - system.law.reference) / ro.distance[:, None]
+    slip[state != 2] = 0.0
+    first = system.pair_of == 0
+    Q = system.frames.Q
+    p_r = np.column_stack([ro.to_rolling(lam[:, :2], Q), lam[:, 2]])[first]
+    out = rolling_quantities(ro.xy[first], p_r, ro.to_rolling(slip, Q)[first],
+                             system.a[first], (state != OPEN)[first], (state == STICK)[first],
+                             ro.rolling.speed)
+    fn = float(system.a[first] @ lam[first, 2])
+    mu = float(np.max(system.law.friction[first]))
+    out.update({"mode": ro.rolling.mode, "direction": list(ro.rolling.direction),
+                "creepage": list(ro.rolling.creepage), "spin": ro.rolling.spin,
+                "normal_force": fn,
+                "creep_force_ratio": [c / (mu * fn) if fn > 0 else 0.0
+                                      for c in out["creep_force"]],
+                "rolled_distance_per_increment": float(ro.distance[first][0])})
+    return out
 
 
 def solve_history(system, pairs, steps, opt, report):
@@ -45,10 +86,12 @@ def solve_history(system, pairs, steps, opt, report):
         target = np.zeros(S)
         target[s_] = 1.0
         name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
+        rolling = frame_rolling(system, step)
         for i in range(1, step.increments + 1):
             tau = i / step.increments
             # the state this increment starts from: the law's history
-            system.start_increment(z, ell)
+            # (convected when the step rolls)
+            system.roll(z, ell, rolling)
             ell_prev, ell = ell, (1 - tau) * prev + tau * target
             done += 1
             if report is not None:
@@ -56,8 +99,10 @@ def solve_history(system, pairs, steps, opt, report):
                                      f"{name} increment {i}/{step.increments}"
                                      + closed_text(system, pairs, z, ell_prev),
                                      index=done, total=total))
-            z, rec, msg = solve_increment(system, predictor, z, ell_prev, ell, opt, report,
-                                          done, total, steps_solver)
+            # the coarse predictor's aggregated systems are the static map's
+            z, rec, msg = solve_increment(system, predictor if rolling is None else None, z,
+                                          ell_prev, ell, opt, report, done, total,
+                                          steps_solver)
             rec.load_factor = tau
             rec.step = s_ + 1
             rec.label = step.label
@@ -65,10 +110,12 @@ def solve_history(system, pairs, steps, opt, report):
             if msg is not None:
                 failed = f"{name}, increment {i}/{step.increments}: {msg}"
                 break
+        quantities = None if failed is not None else rolled(system, z, ell)
         if failed is not None:
             break
         if S > 1:
             res = recover(z, ell, list(records))
+            res.rolling = quantities
             res.label = step.label
             history.append(res)
             if verified(res):  # every step's end against the contact conditions
@@ -83,6 +130,7 @@ def solve_history(system, pairs, steps, opt, report):
                              index=total, total=total, seconds=t4 - t3))
     # states are those of the last increment, judged against its starting slip
     result = recover(z, ell, records)
+    result.rolling = None if failed else quantities
     result.label = steps[s_ if failed else -1].label
     result.history = history if S > 1 else [result]
     if verified(result, history if S > 1 else None) and failed is None:

@@ -217,13 +217,6 @@ class ContactProblem:
         steps = list(steps)
         if not steps:
             raise ConfigError("steps must hold at least one LoadStep")
-        for i, step in enumerate(steps):
-            if getattr(step, "rolling", None) is not None:
-                raise ConfigError(
-                    f"step {i + 1}{f' ({step.label})' if step.label else ''} rolls: rolling is "
-                    "solved on the contact grid (bemcontact.multiscale.solve_on_grid; in a "
-                    "problem file contact.method = \"multiscale\" or \"auto\"); the full path "
-                    "does not roll yet", location={"step": i, "field": "rolling"})
         states = self.states(steps)
         if condensed is not None:
             self._reuse(condensed, opt)

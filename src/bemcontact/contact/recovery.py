@@ -33,8 +33,13 @@ class Recovery:
         lam, parts = system.split(z)
         kk = system.k(z, ell)
         lam3 = lam.reshape(-1, 3)
-        state = system.law.state(lam3, kk)
-        k_prev = system.law.reference
+        # the state and the slip increment as the law judges them (in a
+        # steady rolling step against the convected slip); the gap and the
+        # slip from the physical map
+        kl = system.law_k(z, ell)
+        state = system.law.state(lam3, kl)
+        # the slip increment kk - k_prev is the law's kl - reference
+        k_prev = system.law.reference + (kk[:, :2] - kl[:, :2])
         k_init = system.k0X.reshape(-1, 3)
         sols = []
         controlled: dict[str, dict[str, np.ndarray]] = {}

@@ -196,6 +196,10 @@ class ContactResult:
     verification: the :class:`~bemcontact.contact.verification.Verification`
         of the solve (the worst of each check over the load history); None
         before it ran.  :meth:`verify` computes this state's checks anew.
+    rolling: a rolling step's creep force, spin moment, frictional work and
+        power, adhesion and slip areas and creepages in effect
+        (:func:`~bemcontact.contact.rolling.rolling_quantities`; the first
+        pair's); None when the step does not roll.
     """
 
     converged: bool
@@ -216,6 +220,7 @@ class ContactResult:
     linear: dict = field(default_factory=dict)
     threads: int | None = None
     verification: Verification | None = None
+    rolling: dict | None = None
     #: body name -> the body (what :meth:`stresses` asks for its stresses)
     models: dict = field(default_factory=dict)
     #: how :meth:`stresses` computes them (said in the stress files' summary)
@@ -302,6 +307,7 @@ class ContactResult:
                 for b, regs in self.reactions().items()
             },
             "control_displacements": _controls_json(self.control_displacements),
+            **({"rolling": self.rolling} if self.rolling is not None else {}),
             "history": [
                 {
                     "label": h.label,
@@ -311,6 +317,7 @@ class ContactResult:
                     "control_displacements": _controls_json(h.control_displacements),
                     "states": h.frame.counts(),
                     **({"pairs": [p.summary() for p in h.pairs]} if len(h.pairs) > 1 else {}),
+                    **({"rolling": h.rolling} if h.rolling is not None else {}),
                 }
                 for h in self.history
             ],

@@ -155,4 +155,94 @@ def rolling_quantities(xy: np.ndarray, p: np.ndarray, slip: np.ndarray, area,
     return out
 
 
-__all__ = ["MODES", "Rolling", "rolling_quantities"]
+
+
+
+class FrameRolling:
+    """The rolling of one load step on the full path's frame nodes: the
+    upwind interpolation S (the field at x + Δq e_r, linear on a Delaunay
+    triangulation of each pair's active nodes in its rolling plane, zero
+    upstream of them), the rigid slip of each node and the rolled distance.
+
+    ``points`` (m, 3) the active frame nodes (every pair's, stacked), ``Q``
+    (m, 3, 3) their local bases (columns t1, t2, n, as
+    :attr:`~bemcontact.contact.frames.FrameSet.Q`), ``size`` (m,) their frame
+    element sizes, ``weights`` (m,) their areas, ``pair_of`` (m,) their pair.
+    Per pair the rolling frame is the pair's mean normal's (a direction not
+    tangent to it is a one-line ConfigError), its origin the active nodes'
+    area centroid; steady state rolls by Δq = the 5th percentile of the
+    pair's node sizes (one upwind step of the contact's element size, first
+    order in it), transient by ``distance``.  A
+    tangential vector interpolated from node j to node i is rotated from
+    j's local basis into i's."""
+
+    def __init__(self, rolling: Rolling, points, Q, size, weights, pair_of) -> None:
+        import scipy.sparse
+        import scipy.spatial
+
+        self.rolling = rolling
+        self.steady = rolling.mode == "steady"
+        Q = np.swapaxes(np.asarray(Q, dtype=float), 1, 2)  # rows t1, t2, n
+        m = len(points)
+        self.m = m
+        self.distance = np.zeros(m)
+        #: (m, 2) Kalker's rigid slip per rolled distance in each node's (t1, t2)
+        self.w = np.zeros((m, 2))
+        #: (m, 2) each node's position in its pair's rolling frame
+        self.xy = np.zeros((m, 2))
+        #: (m, 2, 3) each node's rolling frame rows x_r, y_r (global)
+        self.frames = np.zeros((m, 2, 3))
+        rows, cols, vals = [], [], []
+        for p in np.unique(pair_of):
+            idx = np.flatnonzero(pair_of == p)
+            normal = Q[idx, 2].mean(axis=0)
+            frame = rolling.frame(normal / np.linalg.norm(normal))
+            centre = weights[idx] @ points[idx] / weights[idx].sum()
+            xy = (points[idx] - centre) @ frame[:2].T
+            # steady: one upwind step of the contact's own element size (a
+            # graded mesh's finest nodes are at the contact: the 5th percentile)
+            dq = float(np.percentile(size[idx], 5.0)) if self.steady else float(rolling.distance)
+            self.distance[idx] = dq
+            self.xy[idx] = xy
+            self.frames[idx] = frame[:2]
+            w_global = rolling.rigid_slip(xy) @ frame[:2]
+            self.w[idx] = np.einsum("nij,nj->ni", Q[idx, :2], w_global)
+            tri = scipy.spatial.Delaunay(xy)
+            up = xy + np.array([dq, 0.0])
+            simplex = tri.find_simplex(up)
+            inside = simplex >= 0
+            T = tri.transform[simplex[inside]]
+            b = np.einsum("nij,nj->ni", T[:, :2], up[inside] - T[:, 2])
+            bary = np.column_stack([b, 1.0 - b.sum(axis=1)])
+            corners = tri.simplices[simplex[inside]]
+            for i_loc, cs, bs in zip(np.flatnonzero(inside), corners, bary):
+                i = idx[i_loc]
+                for j_loc, beta in zip(cs, bs):
+                    if abs(beta) < 1e-14:
+                        continue
+                    j = idx[j_loc]
+                    R = Q[i, :2] @ Q[j, :2].T  # j's (t1, t2) into i's
+                    for a in range(2):
+                        for c in range(2):
+                            rows.append(2 * i + a)
+                            cols.append(2 * j + c)
+                            vals.append(beta * R[a, c])
+        #: (2m, 2m) sparse: (S u)_i = u(x_i + Δq e_r) in i's basis, u flattened (m, 2)
+        self.S = scipy.sparse.csr_array((vals, (rows, cols)), shape=(2 * m, 2 * m))
+
+    def shift(self, u: np.ndarray) -> np.ndarray:
+        """(m, 2) -> (m, 2): S u."""
+        return (self.S @ u.reshape(-1)).reshape(-1, 2)
+
+    def reference(self, k_t: np.ndarray) -> np.ndarray:
+        """Transient: the stick reference S k_t − Δq w from the previous
+        increment's relative tangential displacement ``k_t`` (m, 2)."""
+        return self.shift(k_t) - self.distance[:, None] * self.w
+
+    def to_rolling(self, t: np.ndarray, Q) -> np.ndarray:
+        """(m, 2) local (t1, t2) components -> each node's rolling frame."""
+        g = np.einsum("nji,ni->nj", Q[:, :, :2], t)  # Q's columns t1, t2
+        return np.einsum("nij,nj->ni", self.frames, g)
+
+
+__all__ = ["MODES", "FrameRolling", "Rolling", "rolling_quantities"]

@@ -64,7 +64,7 @@ def first_touch(system, z, ell) -> np.ndarray:
     if sum(system.nf) and not lam.any():  # a solve's start: no traction yet
         z = z.copy()
         _float(system, z, ell, lam)
-    state = system.law.state(lam.reshape(-1, 3), system.k(z, ell))
+    state = system.law.state(lam.reshape(-1, 3), system.law_k(z, ell))
     if (state != law.OPEN).any():
         return z
     z = z.copy()

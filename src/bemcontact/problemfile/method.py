@@ -23,25 +23,16 @@ def on_grid(problem, steps, method: str, options: SolverOptions):
     which path solved it and why) for the two-body ``problem`` (a
     :class:`~bemcontact.contact.ContactProblem`) and its load ``steps``."""
     steps = steps or (LoadStep(increments=options.load_steps),)
-    # a rolling history is solved on the grid whatever the meshes resolve: the
-    # full path does not roll
-    rolls = any(s.rolling is not None for s in steps)
     grid = GridOptions(grid_size=problem.pairs[0].grid_size,
-                       resolved=RESOLVED if method == "auto" and not rolls else None)
+                       resolved=RESOLVED if method == "auto" else None)
     try:
         result = solve_on_grid(problem, steps, grid, solver=options)
     except (ConfigError, ConvergenceError) as exc:
-        if method == "multiscale" or rolls:
+        if method == "multiscale":
             raise
         why = str(exc).removeprefix("method = \"multiscale\": ")
         return None, f"contact.method = \"auto\": the full path ({why})"
     app = applicability(result, problem)
-    if method == "auto" and app["reason"] and rolls:
-        raise ConfigError(f"contact.method = \"auto\": the contact grid does not apply here "
-                          f"({app['reason']}) and the full path does not roll yet: this rolling "
-                          "problem cannot be solved accurately (method = \"multiscale\" solves "
-                          "it on the grid anyway, with that warning)",
-                          location={"field": "contact.method"})
     if method == "auto" and app["reason"]:
         return None, f"contact.method = \"auto\": the full path ({app['reason']})"
     result.method = {"requested": method,
