@@ -319,6 +319,11 @@ def _describe(problem) -> str:
         f"  load: {len(steps)} step(s), {sum(s.increments for s in steps)} increment(s)"
         if steps else f"  load: one step in {problem.options.load_steps} increment(s)"
     )
+    lines += [f"  rolling: step[{k}]{f' ({s.label})' if s.label else ''} {s.rolling.mode} along "
+              f"{[round(v, 6) for v in s.rolling.direction]}, creepage "
+              f"{list(s.rolling.creepage)}, spin {s.rolling.spin:g}"
+              + (f", {s.rolling.distance:g} per increment" if s.rolling.distance else "")
+              for k, s in enumerate(steps) if s.rolling is not None]
     out = problem.output
     if out.stresses:
         lines.append("  stresses: " + "; ".join(

@@ -41,3 +41,11 @@ def test_bad_rolling_input_is_one_line_exit_2_nothing_written(tmp_path, text, sa
     assert len(lines) == 1 and says in lines[0], proc.stderr
     assert "Traceback" not in proc.stderr
     assert not out.exists()
+
+
+def test_check_lists_the_rolling_steps(tmp_path):
+    proc = subprocess.run([sys.executable, "-m", "bemcontact", "check", str(EXAMPLE)],
+                          capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert ("rolling: step[1] (rolling) steady along [1.0, 0.0, 0.0], creepage [-0.0005, 0.0], "
+            "spin 0") in proc.stdout
