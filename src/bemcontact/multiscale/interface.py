@@ -381,9 +381,18 @@ class GridInterface:
         G = (self.area / cscale) * vec[:, free].T
         W = np.array([M(D[:, j]) for j in range(nf)]).T.reshape(m, nf)
         Sc = G @ W
-        if nf and not np.all(np.isfinite(Sc)) or nf and abs(np.linalg.det(Sc)) == 0.0:
-            return ("the Newton matrix is singular: a free rigid component is not held by "
-                    "the contact")
+        held = free
+        if nf and (not np.all(np.isfinite(Sc)) or abs(np.linalg.det(Sc)) == 0.0):
+            if not np.any(D):
+                # no row of this iterate sees the free components (every
+                # closed cell slips across them, a state Newton may pass
+                # through in transient rolling): the direction holds them
+                # and leaves their force rows to the next iterates
+                nf, held = 0, free[:0]
+                D, G, W, Sc = D[:, :0], G[:0], W[:, :0], Sc[:0, :0]
+            else:
+                return ("the Newton matrix is singular: a free rigid component is not held by "
+                        "the contact")
 
         def P(v):
             u = M(v[:m])
@@ -396,9 +405,9 @@ class GridInterface:
             y, delta = P(v)
             return np.concatenate([B(y) + D @ delta, G @ y])
 
-        rho = self.area * p[:, free].sum(axis=0) - force[free]
+        rho = self.area * p[:, held].sum(axis=0) - force[held]
         b0 = rhs - gather(product(known))
-        g = (-rho - self.area * known[:, free].sum(axis=0)) / cscale
+        g = (-rho - self.area * known[:, held].sum(axis=0)) / cscale
         rhs_aug = np.concatenate([b0, g])
         count = [0]
 
@@ -416,7 +425,8 @@ class GridInterface:
                 return "the Newton system's Krylov solve did not converge"
         y0, dd = P(x)
         dp = known + scatter(y0, vec)
-        return np.concatenate([dp.ravel(), dd])
+        return np.concatenate([dp.ravel(), dd if held.size == free.size else
+                               np.zeros(free.size)])
 
 
 __all__ = ["GridInterface", "GridRecord", "MAX_KRYLOV"]
