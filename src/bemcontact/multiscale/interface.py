@@ -383,11 +383,13 @@ class GridInterface:
         Sc = G @ W
         held = free
         if nf and (not np.all(np.isfinite(Sc)) or abs(np.linalg.det(Sc)) == 0.0):
-            if not np.any(D):
-                # no row of this iterate sees the free components (every
-                # closed cell slips across them, a state Newton may pass
-                # through in transient rolling): the direction holds them
-                # and leaves their force rows to the next iterates
+            if not np.any(D) and np.any(fric):
+                # no row of this iterate sees the free components although
+                # friction could hold them (every closed cell slips across
+                # them, a state Newton may pass through in transient
+                # rolling): the direction holds them and leaves their force
+                # rows to the next iterates; without friction nothing can
+                # hold them, and the matrix is singular
                 nf, held = 0, free[:0]
                 D, G, W, Sc = D[:, :0], G[:0], W[:, :0], Sc[:0, :0]
             else:
