@@ -30,6 +30,22 @@ def frame_rolling(system, step):
     return FrameRolling(step.rolling, fs.points, fs.Q, fs.size, fs.weights, fs.pair_of)
 
 
+def microslip(result, system) -> None:
+    """A rolling step's frame fields: each pair's micro-slip per rolled
+    distance (the law's slip increment over Δq, zero where it sticks or is
+    open) and frictional power density (:class:`~.results.FrameResult`)."""
+    ro = system.rolling
+    if ro is None:
+        return
+    speed = 1.0 if ro.rolling.speed is None else ro.rolling.speed
+    for p, pr in enumerate(result.pairs):
+        fr = pr.frame
+        dq = float(ro.distance[system.frames.slice(p)][0])
+        s = np.where((fr.state == 2)[:, None], fr.slip_increment / dq, 0.0)
+        fr.microslip = s
+        fr.power_density = -np.einsum("ij,ij->i", fr.tangential_traction, s) * speed
+
+
 def rolled(system, z, ell) -> dict | None:
     """A rolling increment's quantities at its converged ``z``
     (:func:`~.rolling.rolling_quantities`, the first pair's), while the
@@ -116,6 +132,7 @@ def solve_history(system, pairs, steps, opt, report):
         if S > 1:
             res = recover(z, ell, list(records))
             res.rolling = quantities
+            microslip(res, system)
             res.label = step.label
             history.append(res)
             if verified(res):  # every step's end against the contact conditions
@@ -131,6 +148,8 @@ def solve_history(system, pairs, steps, opt, report):
     # states are those of the last increment, judged against its starting slip
     result = recover(z, ell, records)
     result.rolling = None if failed else quantities
+    if result.rolling is not None:
+        microslip(result, system)
     result.label = steps[s_ if failed else -1].label
     result.history = history if S > 1 else [result]
     if verified(result, history if S > 1 else None) and failed is None:

@@ -86,11 +86,17 @@ class FrameResult(NodalContactFields):
     (what ``state`` is judged against).  friction: (m,) the friction
     coefficient in effect at each node in that increment (0 while it
     closed).  augmentation: (m,) the law's r_j (stress per length).
+    microslip: (m, 3) a rolling step's slip per rolled distance (global;
+    zero in stick and open), and power_density (m,) its frictional power per
+    area, −t·s times the rolling speed (per unit speed without one); None
+    when the step does not roll.
     """
 
     slip_increment: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     friction: np.ndarray = field(default_factory=lambda: np.zeros(0))
     augmentation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    microslip: np.ndarray | None = None
+    power_density: np.ndarray | None = None
 
 
 @dataclass

@@ -139,16 +139,21 @@ def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
     q = np.linalg.norm(f["tangential_traction"], axis=1)
     last = result.history[-1]
     rolls = last.rolling is not None
-    fig, axes = plt.subplots(1, 3 if rolls else 2, figsize=(15 if rolls else 10, 4.2),
+    fig, axes = plt.subplots(1, 4 if rolls else 2, figsize=(20 if rolls else 10, 4.2),
                              constrained_layout=True)
-    for ax, values, name in ((axes[0], f["pressure"], "pressure"),
-                             (axes[1], q, "tangential traction")):
+    panels = [(axes[0], f["pressure"], "pressure", f"pressure [{stress}]" if stress else ""),
+              (axes[1], q, "tangential traction",
+               f"tangential traction [{stress}]" if stress else "")]
+    if rolls:
+        panels.append((axes[2], np.linalg.norm(f["microslip"], axis=1),
+                       "micro-slip per rolled distance", "|s|"))
+    for ax, values, name, label in panels:
         im = ax.imshow(values.reshape(g.nx, g.ny).T, origin="lower", extent=extent,
                        cmap="viridis")
         ax.set_title(name)
-        fig.colorbar(im, ax=ax, label=f"{name} [{stress}]" if stress else name)
+        fig.colorbar(im, ax=ax, label=label or name)
     if rolls:
-        _adhesion_map(fig, axes[2], result, extent)
+        _adhesion_map(fig, axes[3], result, extent)
     for ax in axes:
         ax.set_xlabel(f"t1 [{length}]" if length else "t1")
         ax.set_ylabel(f"t2 [{length}]" if length else "t2")

@@ -225,6 +225,8 @@ def _write_frame_vtu(path: pathlib.Path, fr, cells) -> None:
             "pressure": fr.pressure, "tangential_traction": fr.tangential_traction,
             "gap": fr.gap, "slip": fr.slip, "state": fr.state.astype(np.int8),
             "normal": fr.normals, "weight": fr.weights,
+            **({} if fr.microslip is None else {"microslip": fr.microslip,
+                                               "power_density": fr.power_density}),
         },
     )
 

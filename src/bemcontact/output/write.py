@@ -456,7 +456,11 @@ def _write_frame_csv(path: pathlib.Path, frame) -> None:
         frame.points, frame.pressure, frame.tangential_traction, frame.gap, frame.slip,
         frame.state.astype(float), frame.normals, frame.weights,
     ])  # fmt: skip
-    write_csv(path, FRAME_COLUMNS, table, ("state",))
+    columns = FRAME_COLUMNS
+    if frame.microslip is not None:  # a rolling step's
+        table = np.column_stack([table, frame.microslip, frame.power_density])
+        columns = columns + ("microslip_x", "microslip_y", "microslip_z", "power_density")
+    write_csv(path, columns, table, ("state",))
 
 
 __all__ = [
