@@ -108,6 +108,13 @@ def test_full_sliding_under_a_large_creepage(full_problem):
     assert abs(roll["creep_force_ratio"][1]) < 1e-6
     assert roll["adhesion_area"] == 0.0 and roll["slip_area"] > 0.0
     assert roll["creep_force"][0] == pytest.approx(r.contact_force[0], rel=1e-9)
+    # the frame's micro-slip is the rigid slip (xi, 0) to 1 % (the elastic part is
+    # 1/2500 of it), the traction against it: the power density is > 0 where it slips
+    fr = r.frame
+    slip = fr.state == 2
+    assert np.all(fr.microslip[slip, 0] < 0.0)
+    assert np.allclose(fr.microslip[slip, 0], -100.0, rtol=1e-2)
+    assert np.all(fr.power_density[slip] > 0.0) and not fr.power_density[~slip].any()
 
 
 def test_full_sliding_under_a_large_spin(full_problem):
