@@ -83,8 +83,11 @@ def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
     a cell, of the traction −σ_hs·n that the half-space field of that cell
     leaves on a surface curved as ``curvature`` (κ_x, κ_y: depth
     ½ (κ_x x² + κ_y y²) from the plane tangent at the loaded cell) within
-    ``radius`` of it, spread by the half-space operator.  First order in
-    κ a; for a surface of uniform curvature it depends on the offset only."""
+    ``radius`` of it, spread by the half-space operator, plus the
+    half-space field of the cell read on that surface instead of on the
+    plane (the cell's point force at the offset, at the surface's depth,
+    less on the plane).  First order in κ a; for a surface of uniform
+    curvature it depends on the offset only."""
     nx, ny = grid.shape
     big = Grid.centred(2 * nx - 1, 2 * ny - 1, grid.dx, grid.dy)
     c = big.centres
@@ -100,6 +103,17 @@ def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
     t[inside] = -_voigt_times(sig, n_out[inside])
     op = HalfSpaceOperator(big, Compliance.half_space(shear_modulus, poisson_ratio))
     u = np.stack([op.matvec(t[:, :, j]) for j in range(3)], axis=-1)  # (cells, comp, dir)
+    # the body's surface lies `depth` inside the half-space tangent at the
+    # loaded cell: the half-space field itself is read there, not on the
+    # plane (to first order d ∂u/∂z = −d ∇_s u_z tangentially: as large as
+    # the traction term in the tangential components; zero in u_z under a
+    # normal load, whose surface divergence vanishes off the load)
+    X = np.column_stack([c[inside, :2], depth[inside]])
+    plane = X.copy()
+    plane[:, 2] = 0.0
+    u[inside] += grid.cell_area * (point_load_displacements(X, shear_modulus, poisson_ratio)
+                                   - point_load_displacements(plane, shear_modulus,
+                                                              poisson_ratio))
     return u.reshape(2 * nx - 1, 2 * ny - 1, 3, 3)
 
 
