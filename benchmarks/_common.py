@@ -1,5 +1,6 @@
-"""Shared by the benchmark scripts: run one size in a fresh process, and the
-machine / commit line printed above each table."""
+"""Shared by the benchmark scripts: run one size in a fresh process, time a
+call's median in this one, and the machine / commit line printed above each
+table."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ import platform
 import statistics
 import subprocess
 import sys
+import time
 
 
 def run_one(script: str, size: int) -> dict:
@@ -31,6 +33,18 @@ def run_median(script: str, size, repeat: int) -> dict:
         row[key + "_runs"] = [x[key] for x in rows]
     row["peak_rss_mb"] = max(x["peak_rss_mb"] for x in rows)
     return row
+
+
+def timed(fn, repeat: int):
+    """``fn()`` called ``repeat`` times in this process: (median wall s,
+    median CPU s of this process, the last call's result)."""
+    walls, cpus, out = [], [], None
+    for _ in range(repeat):
+        w, c = time.perf_counter(), time.process_time()
+        out = fn()
+        walls.append(time.perf_counter() - w)
+        cpus.append(time.process_time() - c)
+    return statistics.median(walls), statistics.median(cpus), out
 
 
 def machine_line(extra: str = "") -> str:

@@ -35,21 +35,11 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _common import machine_line  # noqa: E402
+from _common import machine_line, timed  # noqa: E402
 
 EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "cattaneo_mindlin_multiscale.toml"
 REPEAT = 3
 SAMPLE = 2000
-
-
-def _timed(fn, repeat):
-    walls, cpus, out = [], [], None
-    for _ in range(repeat):
-        w, c = time.perf_counter(), time.process_time()
-        out = fn()
-        walls.append(time.perf_counter() - w)
-        cpus.append(time.process_time() - c)
-    return statistics.median(walls), statistics.median(cpus), out
 
 
 def one(points: int, repeat: int = REPEAT, example=EXAMPLE) -> dict:
@@ -71,13 +61,13 @@ def one(points: int, repeat: int = REPEAT, example=EXAMPLE) -> dict:
     top = quartic_terms(c[:, 0], c[:, 1]) @ zeta1  # the block's surface above each cell
     local = np.concatenate([np.column_stack([c[:, :2], top - d]) for d in depths])
     box = result.origin + local @ result.axes
-    wall, cpu, s = _timed(lambda: result.stresses("block", box), repeat)
+    wall, cpu, s = timed(lambda: result.stresses("block", box), repeat)
     rng = np.random.default_rng(0)
     xy = rng.uniform(-1.5 * a, 1.5 * a, (SAMPLE, 2))
     d = rng.uniform(0.02 * a, 3.0 * a, SAMPLE)
     z = quartic_terms(xy[:, 0], xy[:, 1]) @ zeta1 - d
     scattered = result.origin + np.column_stack([xy, z]) @ result.axes
-    swall, scpu, _ = _timed(lambda: result.stresses("block", scattered), repeat)
+    swall, scpu, _ = timed(lambda: result.stresses("block", scattered), repeat)
     return {"points": int(len(box)), "cells": int(g.size), "depths": int(depths.size),
             "wall_s": wall, "cpu_s": cpu, "per_point_us": 1e6 * wall / len(box),
             "scattered": SAMPLE, "scattered_wall_s": swall, "scattered_cpu_s": scpu,

@@ -37,7 +37,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from _common import machine_line  # noqa: E402
+from _common import machine_line, timed  # noqa: E402
 
 from bemcontact.contact.rolling import Rolling  # noqa: E402
 from bemcontact.halfspace import Compliance, Grid  # noqa: E402
@@ -72,16 +72,6 @@ def roll(gi, case, creepage, spin, offset=0.0):
     return F / (case["mu"] * F[2]), rec
 
 
-def timed(fn, repeat):
-    walls, cpus, out = [], [], None
-    for _ in range(repeat):
-        w, c = time.perf_counter(), time.process_time()
-        out = fn()
-        walls.append(time.perf_counter() - w)
-        cpus.append(time.process_time() - c)
-    return statistics.median(walls), statistics.median(cpus), out
-
-
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=3)
@@ -99,12 +89,13 @@ def main(argv=None) -> dict:
         g = pressed(spin, (50, 50), (8.8, 4.4))
         t, u = time.perf_counter(), time.process_time()
         r, rec = roll(g, spin, (0.0, spin["eta"]), spin["phi"])
-        return (time.perf_counter() - t, time.process_time() - u), r, rec
+        return time.perf_counter() - t, time.process_time() - u, r, rec
 
-    w, c, (t, r, rec) = timed(steady, args.repeat)
+    runs = [steady() for _ in range(args.repeat)]  # the rolling solve alone, median
+    r, rec = runs[-1][2:]
     rows["steady rolling with spin, 50 x 50"] = {
-        "wall": t[0], "cpu": t[1], "Fy/muFn": r[1], "newton": rec.iterations,
-        "krylov": rec.krylov_iterations}
+        "wall": statistics.median(x[0] for x in runs), "cpu": statistics.median(x[1] for x in runs),
+        "Fy/muFn": r[1], "newton": rec.iterations, "krylov": rec.krylov_iterations}
 
     values = CURVE[: args.points]
 
@@ -112,10 +103,12 @@ def main(argv=None) -> dict:
         g = pressed(curve, curve["cells"], curve["half_widths"])
         t, u = time.perf_counter(), time.process_time()
         out = [roll(g, curve, (xi, 0.0), 0.0)[0][0] for xi in values]
-        return (time.perf_counter() - t, time.process_time() - u), out
+        return time.perf_counter() - t, time.process_time() - u, out
 
-    w, c, (t, ratios) = timed(creep_curve, args.repeat)
-    rows[f"creep-force curve, {len(values)} points, 48 x 44"] = {"wall": t[0], "cpu": t[1]}
+    runs = [creep_curve() for _ in range(args.repeat)]  # the curve alone, median
+    ratios = runs[-1][2]
+    rows[f"creep-force curve, {len(values)} points, 48 x 44"] = {
+        "wall": statistics.median(x[0] for x in runs), "cpu": statistics.median(x[1] for x in runs)}
     comparison = {xi: (ratios[values.index(xi)] if xi in values else None, want)
                   for xi, want in curve["Fx_over_muFn"].items()}
 
