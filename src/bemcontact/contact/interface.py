@@ -203,7 +203,10 @@ class InterfaceSystem:
         self.rolling = rolling
         if not rolling.steady:
             self._law_map, self._dk = None, None
-            self.law.convect(rolling.reference(self.k(z, ell)[:, :2]))
+            # the material's displacement is convected, not the initial
+            # relative positions k0X (geometry, nonzero on non-matching meshes)
+            k0 = self.k0X.reshape(-1, 3)[:, :2]
+            self.law.convect(rolling.reference(self.k(z, ell)[:, :2] - k0) + k0)
             return
         if self._law_map is None or self._law_map[3] is not rolling:
             t = np.sort(np.concatenate([np.arange(0, 3 * self.m, 3),

@@ -17,17 +17,30 @@ from .newton import NewtonSteps
 from .predictor import Predictor
 from .recovery import Recovery
 from .results import ContactResult, StepRecord
+from ..errors import ConfigError
 from .rolling import FrameRolling, rolling_quantities
 from .verification import verified
 
 
-def frame_rolling(system, step):
-    """The :class:`~.rolling.FrameRolling` of ``step`` on the system's
-    active frame nodes (None when it does not roll)."""
+def frame_rolling(frames, step, gap=None, index: int = 0, friction=None):
+    """The :class:`~.rolling.FrameRolling` of ``step`` (the ``index``-th) on
+    the active nodes of ``frames`` (a FrameSet; ``gap`` (m,) their initial
+    gaps: the rolling frame's origin is each pair's first touch), None when
+    it does not roll; a direction off a pair's contact plane, or a history
+    rolling frictionless pairs only (``friction``, one per pair), is a
+    one-line ConfigError naming ``step[index].rolling``."""
     if step.rolling is None:
         return None
-    fs = system.frames
-    return FrameRolling(step.rolling, fs.points, fs.Q, fs.size, fs.weights, fs.pair_of)
+    where = {"step": index, "field": "rolling"}
+    if friction is not None and not any(f > 0.0 for f in friction):
+        raise ConfigError(f"step[{index}].rolling: a frictionless pair: rolling carries no "
+                          "creep force without friction; give contact.friction_coefficient > 0",
+                          location=where)
+    try:
+        return FrameRolling(step.rolling, frames.points, frames.Q, frames.size, frames.weights,
+                            frames.pair_of, gap)
+    except ConfigError as exc:
+        raise ConfigError(f"step[{index}].{exc}", location={**exc.location, **where}) from None
 
 
 def microslip(result, system) -> None:
@@ -63,17 +76,31 @@ def rolled(system, z, ell) -> dict | None:
     first = system.pair_of == 0
     Q = system.frames.Q
     p_r = np.column_stack([ro.to_rolling(lam[:, :2], Q), lam[:, 2]])[first]
+    upstream = np.zeros(system.m, dtype=bool)  # nodes the shift reaches from upstream
+    upstream[np.unique(ro.S.tocoo().row // 2)] = True
+    without = bool(np.any((state != OPEN) & ~upstream))
     out = rolling_quantities(ro.xy[first], p_r, ro.to_rolling(slip, Q)[first],
                              system.a[first], (state != OPEN)[first], (state == STICK)[first],
                              ro.rolling.speed)
     fn = float(system.a[first] @ lam[first, 2])
     mu = float(np.max(system.law.friction[first]))
+    creepage = np.array(ro.rolling.creepage)
+    if ro.steady:  # the rigid unknowns' tangential shift is Δq times an extra creepage
+        lv = np.zeros(3 * system.m)
+        for L, v in zip(system.L, system.split(z)[1]):
+            if v.size:
+                lv = lv + L @ v
+        t = lv.reshape(-1, 3)[first, :2] / ro.distance[first][:, None]
+        g = np.einsum("nji,ni->nj", Q[first][:, :, :2], t)  # global
+        creepage = creepage + np.einsum("nij,nj->ni", ro.frames[first], g).mean(axis=0)
     out.update({"mode": ro.rolling.mode, "direction": list(ro.rolling.direction),
-                "creepage": list(ro.rolling.creepage), "spin": ro.rolling.spin,
+                "creepage": creepage.tolist(), "spin": ro.rolling.spin,
                 "normal_force": fn,
-                "creep_force_ratio": [c / (mu * fn) if fn > 0 else 0.0
+                "creep_force_ratio": [c / (mu * fn) if fn > 0 and mu > 0 else 0.0
                                       for c in out["creep_force"]],
-                "rolled_distance_per_increment": float(ro.distance[first][0])})
+                "rolled_distance_per_increment": float(ro.distance[first][0]),
+                "origin": ro.origins[first][0].tolist(),
+                "without_upstream": without})
     return out
 
 
@@ -102,7 +129,7 @@ def solve_history(system, pairs, steps, opt, report):
         target = np.zeros(S)
         target[s_] = 1.0
         name = f"step {s_ + 1}/{S}{f' ({step.label})' if step.label else ''}"
-        rolling = frame_rolling(system, step)
+        rolling = frame_rolling(system.frames, step, system.k0X[2::3], s_)
         for i in range(1, step.increments + 1):
             tau = i / step.increments
             # the state this increment starts from: the law's history
@@ -127,6 +154,10 @@ def solve_history(system, pairs, steps, opt, report):
                 failed = f"{name}, increment {i}/{step.increments}: {msg}"
                 break
         quantities = None if failed is not None else rolled(system, z, ell)
+        if quantities is not None and quantities.pop("without_upstream"):
+            failed = (f"{name}: the contact reaches the leading side of the frame's active "
+                      "nodes (a closed node has no upstream point to convect from); give a "
+                      "larger contact surface or search_distance")
         if failed is not None:
             break
         if S > 1:

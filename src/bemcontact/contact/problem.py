@@ -18,7 +18,7 @@ from .frame import ContactFrame
 from .frames import FrameSet
 from .history import LoadStep, checked_states
 from .interface import InterfaceSystem
-from .loading import solve_history
+from .loading import frame_rolling, solve_history
 from .memory import MemoryEstimate, estimate, frames_peak, guard, resident_bytes
 from .options import SolverOptions
 from .origin import own_origin, translated_bodies, translated_result, translated_states
@@ -274,6 +274,8 @@ class ContactProblem:
                        else f"contact frames ({len(self.pairs)} pairs)"):
             fs = self.frames
         t1 = time.perf_counter()
+        for i, step in enumerate(steps):  # a rolling step's direction and friction, first
+            frame_rolling(fs, step, index=i, friction=[p.friction_coefficient for p in self.pairs])
         if condensed is not None:
             cb = condensed.bodies_for(self._solved, states)
         else:

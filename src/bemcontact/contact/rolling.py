@@ -169,14 +169,15 @@ class FrameRolling:
     :attr:`~bemcontact.contact.frames.FrameSet.Q`), ``size`` (m,) their frame
     element sizes, ``weights`` (m,) their areas, ``pair_of`` (m,) their pair.
     Per pair the rolling frame is the pair's mean normal's (a direction not
-    tangent to it is a one-line ConfigError), its origin the active nodes'
-    area centroid; steady state rolls by Δq = the 5th percentile of the
+    tangent to it is a one-line ConfigError), its origin the node of the
+    smallest initial ``gap`` (m,) (the first touch, as the grid's origin is
+    its surfaces' closest point; without ``gap`` the nodes' area centroid); steady state rolls by Δq = the 5th percentile of the
     pair's node sizes (one upwind step of the contact's element size, first
     order in it), transient by ``distance``.  A
     tangential vector interpolated from node j to node i is rotated from
     j's local basis into i's."""
 
-    def __init__(self, rolling: Rolling, points, Q, size, weights, pair_of) -> None:
+    def __init__(self, rolling: Rolling, points, Q, size, weights, pair_of, gap=None) -> None:
         import scipy.sparse
         import scipy.spatial
 
@@ -192,12 +193,15 @@ class FrameRolling:
         self.xy = np.zeros((m, 2))
         #: (m, 2, 3) each node's rolling frame rows x_r, y_r (global)
         self.frames = np.zeros((m, 2, 3))
+        #: (m, 3) each node's rolling frame origin (its pair's, global)
+        self.origins = np.zeros((m, 3))
         rows, cols, vals = [], [], []
         for p in np.unique(pair_of):
             idx = np.flatnonzero(pair_of == p)
             normal = Q[idx, 2].mean(axis=0)
             frame = rolling.frame(normal / np.linalg.norm(normal))
-            centre = weights[idx] @ points[idx] / weights[idx].sum()
+            centre = (weights[idx] @ points[idx] / weights[idx].sum() if gap is None
+                      else points[idx[int(np.argmin(np.asarray(gap)[idx]))]])
             xy = (points[idx] - centre) @ frame[:2].T
             # steady: one upwind step of the contact's own element size (a
             # graded mesh's finest nodes are at the contact: the 5th percentile)
@@ -205,6 +209,7 @@ class FrameRolling:
             self.distance[idx] = dq
             self.xy[idx] = xy
             self.frames[idx] = frame[:2]
+            self.origins[idx] = centre
             w_global = rolling.rigid_slip(xy) @ frame[:2]
             self.w[idx] = np.einsum("nij,nj->ni", Q[idx, :2], w_global)
             tri = scipy.spatial.Delaunay(xy)

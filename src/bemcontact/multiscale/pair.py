@@ -377,8 +377,12 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
         history, records, _, _ = run(grid, corrections, report=True, coarse=(g, coarse))
         # the contact must stay inside the grid: a closed cell on its border
         # means the sizing pass fell short (a grid 1.5 times wider again)
+        # (a band as wide as the longest transient roll: a cell takes its
+        # stick reference from that far upstream)
+        band = 1 + max((math.ceil(s.rolling.distance / cell - 1e-9) for s in steps
+                        if s.rolling is not None and s.rolling.distance), default=0)
         edge = np.zeros((nx, ny), dtype=bool)
-        edge[[0, -1], :] = edge[:, [0, -1]] = True
+        edge[:band, :] = edge[-band:, :] = edge[:, :band] = edge[:, -band:] = True
         if not any(np.any((st.state != OPEN).reshape(nx, ny) & edge) for st in history):
             break
         if attempt == 2:

@@ -120,16 +120,19 @@ def test_full_sliding_under_a_large_creepage(full_problem):
 def test_full_sliding_under_a_large_spin(full_problem):
     """phi = 1000 rad/mm (the rigid slip 1e4 times the elastic one, p/E*):
     every closed node's traction is mu p_n against the rigid slip
-    phi (-y, x) to 1e-3 of mu p_n, and the spin moment is -mu sum a p r."""
+    phi (-y, x) about the rolling frame's origin (the first touch) to 1e-3
+    of mu p_n."""
     r = solve(full_problem, Rolling((1, 0, 0), (0.0, 0.0), 1000.0))
     fr = r.frame
     closed = (fr.state != OPEN) & (fr.weights > 0)
     p = fr.pressure[closed]
-    xy = fr.points[closed, :2] - (fr.weights[fr.state != -1] @ fr.points[:, :2] /
-                                  fr.weights.sum())
+    xy = fr.points[closed, :2] - np.array(r.rolling["origin"][:2])  # the first touch
     rho = np.hypot(xy[:, 0], xy[:, 1])
     far = rho > 0.05  # the direction is defined away from the centre
     t = fr.tangential_traction[closed][far, :2]
     want = -0.3 * p[far, None] * np.column_stack([-xy[far, 1], xy[far, 0]]) / rho[far, None]
     assert np.abs(t - want).max() < 1e-3 * 0.3 * p.max()
-    assert r.rolling["adhesion_area"] == 0.0
+    # only at the spin's centre (zero rigid slip there) may a node stick: within a
+    # coarse element (0.5 mm) of it
+    stuck = fr.points[fr.state == 1, :2] - np.array(r.rolling["origin"][:2])
+    assert np.all(np.hypot(stuck[:, 0], stuck[:, 1]) < 0.75)

@@ -49,3 +49,25 @@ def test_check_lists_the_rolling_steps(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert ("rolling: step[1] (rolling) steady along [1.0, 0.0, 0.0], creepage [-0.0005, 0.0], "
             "spin 0") in proc.stdout
+
+
+@pytest.mark.parametrize("changes, says", [
+    ({"friction_coefficient = 0.3": "friction_coefficient = 0.0"}, "step[1].rolling: a frictionless"),
+    ({ROLLING: 'rolling = { direction = [0, 0.6, 0.8] }'}, "step[1].rolling.direction"),
+])
+def test_the_full_path_refuses_bad_rolling_before_it_solves(tmp_path, changes, says):
+    """method = "full": the same one-line refusals, before any body is
+    condensed (the run stops within seconds) and nothing written."""
+    src = EXAMPLE.read_text().replace('method = "multiscale"', 'method = "full"')
+    for old, new in changes.items():
+        assert old in src
+        src = src.replace(old, new)
+    path = tmp_path / "p.toml"
+    path.write_text(src)
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "bemcontact", "run", str(path), "--out",
+                           str(out), "--quiet"], capture_output=True, text=True)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and says in lines[0], proc.stderr
+    assert not out.exists()
