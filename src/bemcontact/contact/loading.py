@@ -61,8 +61,9 @@ def microslip(result, system) -> None:
 
 def rolled(system, z, ell) -> dict | None:
     """A rolling increment's quantities at its converged ``z``
-    (:func:`~.rolling.rolling_quantities`, the first pair's), while the
-    system still sees the convected slip; None when it does not roll."""
+    (:func:`~.rolling.rolling_quantities`: the first pair's, and with
+    several pairs each pair's under ``pairs``), while the system still sees
+    the convected slip; None when it does not roll."""
     ro = system.rolling
     if ro is None:
         return None
@@ -73,34 +74,41 @@ def rolled(system, z, ell) -> dict | None:
     state = system.law.state(lam, k)
     slip = (k[:, :2] - system.law.reference) / ro.distance[:, None]
     slip[state != 2] = 0.0
-    first = system.pair_of == 0
     Q = system.frames.Q
-    p_r = np.column_stack([ro.to_rolling(lam[:, :2], Q), lam[:, 2]])[first]
+    p_r = np.column_stack([ro.to_rolling(lam[:, :2], Q), lam[:, 2]])
+    s_r = ro.to_rolling(slip, Q)
     upstream = np.zeros(system.m, dtype=bool)  # nodes the shift reaches from upstream
     upstream[np.unique(ro.S.tocoo().row // 2)] = True
-    without = bool(np.any((state != OPEN) & ~upstream))
-    out = rolling_quantities(ro.xy[first], p_r, ro.to_rolling(slip, Q)[first],
-                             system.a[first], (state != OPEN)[first], (state == STICK)[first],
-                             ro.rolling.speed)
-    fn = float(system.a[first] @ lam[first, 2])
-    mu = float(np.max(system.law.friction[first]))
-    creepage = np.array(ro.rolling.creepage)
-    if ro.steady:  # the rigid unknowns' tangential shift is Δq times an extra creepage
-        lv = np.zeros(3 * system.m)
-        for L, v in zip(system.L, system.split(z)[1]):
-            if v.size:
-                lv = lv + L @ v
-        t = lv.reshape(-1, 3)[first, :2] / ro.distance[first][:, None]
-        g = np.einsum("nji,ni->nj", Q[first][:, :, :2], t)  # global
-        creepage = creepage + np.einsum("nij,nj->ni", ro.frames[first], g).mean(axis=0)
-    out.update({"mode": ro.rolling.mode, "direction": list(ro.rolling.direction),
-                "creepage": creepage.tolist(), "spin": ro.rolling.spin,
-                "normal_force": fn,
-                "creep_force_ratio": [c / (mu * fn) if fn > 0 and mu > 0 else 0.0
-                                      for c in out["creep_force"]],
-                "rolled_distance_per_increment": float(ro.distance[first][0]),
-                "origin": ro.origins[first][0].tolist(),
-                "without_upstream": without})
+    lv = np.zeros(3 * system.m)  # the rigid unknowns' shift: Δq times an extra creepage
+    for L, v in zip(system.L, system.split(z)[1]):
+        if v.size:
+            lv = lv + L @ v
+
+    def pair(p):
+        on = system.pair_of == p
+        out = rolling_quantities(ro.xy[on], p_r[on], s_r[on], system.a[on],
+                                 (state != OPEN)[on], (state == STICK)[on], ro.rolling.speed)
+        fn = float(system.a[on] @ lam[on, 2])
+        mu = float(np.max(system.law.friction[on]))
+        creepage = np.array(ro.rolling.creepage)
+        if ro.steady:
+            t = lv.reshape(-1, 3)[on, :2] / ro.distance[on][:, None]
+            g = np.einsum("nji,ni->nj", Q[on][:, :, :2], t)  # global
+            creepage = creepage + np.einsum("nij,nj->ni", ro.frames[on], g).mean(axis=0)
+        out.update({"mode": ro.rolling.mode, "direction": list(ro.rolling.direction),
+                    "creepage": creepage.tolist(), "spin": ro.rolling.spin,
+                    "normal_force": fn,
+                    "creep_force_ratio": [c / (mu * fn) if fn > 0 and mu > 0 else 0.0
+                                          for c in out["creep_force"]],
+                    "rolled_distance_per_increment": float(ro.distance[on][0]),
+                    "origin": ro.origins[on][0].tolist()})
+        return out
+
+    npairs = int(system.pair_of.max()) + 1
+    out = pair(0)
+    if npairs > 1:
+        out["pairs"] = [pair(p) for p in range(npairs)]
+    out["without_upstream"] = bool(np.any((state != OPEN) & ~upstream))
     return out
 
 

@@ -282,7 +282,8 @@ STEP = Key(
             "`creep_force` [F_x, F_y] on the second body in the rolling frame, "
             "`creep_force_ratio` (over μ F_n), `spin_moment`, `frictional_power` (with "
             "`speed`) and `frictional_work_per_distance`, `adhesion_area`, `slip_area` and the "
-            "creepages in effect. Both paths roll: the contact grid (its rolling direction along "
+            "creepages in effect (an assembly's: the first pair's, and each pair's under "
+            "`pairs`). Both paths roll: the contact grid (its rolling direction along "
             "one of its axes) and the full path (an upwind interpolation on the frame nodes).",
             keys=(
                 Key("direction", "vector", "the rolling direction (tangent to the contact)",
