@@ -82,7 +82,7 @@ def main(argv=None) -> dict:
     print(machine_line())
     rows = {}
 
-    w, c, gi = timed(lambda: pressed(spin, (50, 50), (8.8, 4.4)), args.repeat)
+    w, c, _ = timed(lambda: pressed(spin, (50, 50), (8.8, 4.4)), args.repeat)
     rows["normal, 50 x 50"] = {"wall": w, "cpu": c}
 
     def steady():

@@ -124,8 +124,12 @@ class InterfaceSystem:
         return z[:m3], parts
 
     def k(self, z: np.ndarray, ell: np.ndarray) -> np.ndarray:
+        return self._affine(z, ell, self.K, self.k0X, self.k0u)
+
+    def _affine(self, z, ell, K, k0X, k0u) -> np.ndarray:
+        """(m, 3) k0X + k0u ell + K lam + L v: the physical map or the law's."""
         lam, parts = self.split(z)
-        kk = self.k0X + self.k0u @ ell + self.K @ lam
+        kk = k0X + k0u @ ell + K @ lam
         for L, v in zip(self.L, parts):
             if v.size:
                 kk = kk + L @ v
@@ -136,13 +140,7 @@ class InterfaceSystem:
         steady rolling step is the convected slip per shift (:meth:`roll`)."""
         if self._law_map is None:
             return self.k(z, ell)
-        K, k0X, k0u, _ = self._law_map
-        lam, parts = self.split(z)
-        kk = k0X + k0u @ ell + K @ lam
-        for L, v in zip(self.L, parts):
-            if v.size:
-                kk = kk + L @ v
-        return kk.reshape(-1, 3)
+        return self._affine(z, ell, *self._law_map[:3])
 
     def start_increment(self, z: np.ndarray, ell: np.ndarray,
                         reference: np.ndarray | None = None) -> None:
