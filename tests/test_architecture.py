@@ -26,7 +26,7 @@ LAYERS = [
     {"validation", "output", "bench"},
     {"stresses"},
     {"multiscale"},
-    {"contact"},
+    {"contact", "fem"},
     {"bem"},
     {"linalg", "halfspace"},
     {"mesh"},

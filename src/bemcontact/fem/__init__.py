@@ -1,0 +1,9 @@
+"""Finite-element bodies: a volume mesh (:mod:`.mesh`), its trace on the
+boundary (:mod:`.trace`), the body (:mod:`.body`) and its condensation on
+the contact nodes (:mod:`.condensation`), behind the same body seam as a
+BEM body (:class:`~bemcontact.contact.flexibility.Body`)."""
+
+from .body import FiniteElementBody
+from .mesh import VolumeMesh, box_volume
+
+__all__ = ["FiniteElementBody", "VolumeMesh", "box_volume"]

@@ -1,0 +1,257 @@
+"""A finite-element body reduced to its contact nodes: its stiffness
+factored once (sparse Cholesky, CHOLMOD through cholespy; docs/decisions.md
+says why), its responses to the frame's traction modes, to each load state
+and to each platen translation solved in blocks, of which only the contact
+rows are kept, and its fields recovered by one more solve from given frame
+tractions (the members of
+:class:`~bemcontact.contact.flexibility.Flexibility`).
+
+Volume dofs: ``3 i + c`` is component c of volume node i.  A trace
+functional node moves as its volume node (``body.volume_node``); its nodal
+forces (a traction's consistent forces, the frame's multipliers ``B``) add
+onto that node.
+
+Rigid modes the supports leave free (a body held only by its contacts)
+make the stiffness singular.  They are removed by pinning as many dofs as
+there are free modes, chosen by a pivoted QR of the modes so that the pins
+hold exactly those modes and nothing else (statically determinate): a
+response is then the body's deformation plus a rigid motion, and for the
+equilibrated loads of a solution (the contact solver's equilibrium rows)
+the pins carry no force, so the fields are exact."""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+
+from ..bem.solution import BodySolution
+from ..errors import ConfigError
+from ..progress import ProgressEvent
+from .trace import trace_mass
+
+#: columns solved at once (bounds the dense block to CHUNK x free dofs)
+CHUNK = 256
+
+
+class _Cholesky:
+    """The sparse Cholesky factor of an SPD matrix (cholespy's CHOLMOD)."""
+
+    def __init__(self, A) -> None:
+        try:
+            import cholespy
+        except ImportError:
+            raise ConfigError(
+                'a finite-element body needs cholespy (sparse Cholesky); pip install "bemcontact[fem]"'
+            ) from None
+        C = scipy.sparse.coo_array(A)
+        self.n = A.shape[0]
+        self._s = cholespy.CholeskySolverD(self.n, C.row.astype(np.int32), C.col.astype(np.int32),
+                                           C.data.astype(float), cholespy.MatrixType.COO)
+
+    def solve(self, b: np.ndarray) -> np.ndarray:
+        b = np.ascontiguousarray(b, dtype=float)
+        x = np.zeros_like(b)
+        self._s.solve(b, x)
+        return x
+
+
+class FiniteElementFlexibility:
+    """A finite-element body's flexibility on its contact nodes (made by
+    :func:`condense`; the protocol's members)."""
+
+    def __init__(self, **kw: Any) -> None:
+        self.__dict__.update(kw)
+
+    name = property(lambda self: self.body.name)
+    points = property(lambda self: self.body.trace.points[self.nodes])
+    F = property(lambda self: self._F)
+    u0 = property(lambda self: self._u[self.contact_vdofs][:, : self._S])
+    Rc = property(lambda self: self.Rf[self.contact_vdofs])
+    Yc = property(lambda self: self._u[self.contact_vdofs][:, self._S:])
+    CX = property(lambda self: self._CX)
+
+    @property
+    def CY(self) -> np.ndarray:
+        """(nc, nc) controlled resultants per platen translation; a
+        translation that strains nothing has none, exactly (as for a BEM
+        body, :attr:`~bemcontact.bem.condensation.CondensedBody.CY`)."""
+        CY = self._R[:, self._S:].copy()
+        E = self.body.material.youngs_modulus
+        for k_, ctl in enumerate(self.controls):
+            size = math.sqrt(self.body.trace.weights[ctl.dofs // 3].sum())
+            if abs(CY[k_, k_]) <= 1e-8 * E * size:
+                CY[k_, :] = 0.0
+                CY[:, k_] = 0.0
+        return CY
+
+    def control_resultants(self, ell: np.ndarray) -> np.ndarray:
+        return self._R[:, : self._S] @ ell
+
+    def solution(self, lam, alpha, U, ell):
+        """The body's fields on its trace for frame tractions ``lam``,
+        free rigid-mode amplitudes ``alpha``, platen translations ``U`` and
+        load weights ``ell`` (one solve), and each controlled region's
+        translation."""
+        b, d = self.body, self.body.trace
+        f = self.f_states @ ell + self.Pc @ (self.modes.B @ lam)
+        g = self.g_states @ ell
+        for k_, Uk in enumerate(U):
+            g = g + Uk * self.indicators[:, k_]
+        u = self._solve(f[:, None], g[:, None])[:, 0]
+        if alpha.size:
+            u = u + self.Rf @ alpha
+        r = self.K @ u - f  # the supports' and platens' forces on the body
+        vd = self.trace_vdofs
+        disp = u[vd]
+        t = np.where(self.known_u, 0.0, self.values @ ell)
+        # a held volume dof's force shared by the held trace dofs on it, by weight
+        ku = np.flatnonzero(self.known_u)
+        w = np.repeat(d.weights, 3)
+        total = np.zeros(b.n_dofs)
+        np.add.at(total, vd[ku], w[ku])
+        t[ku] = r[vd[ku]] / total[vd[ku]]
+        t[self.dofs] = self.modes.tractions(lam)
+        controlled: dict[str, np.ndarray] = {}
+        for ctl, Uk in zip(self.controls, U):
+            controlled.setdefault(ctl.region, np.full(3, np.nan))[ctl.component] = Uk
+        sol = BodySolution(points=d.points, normals=d.normals, displacement=disp.reshape(-1, 3),
+                           traction=t.reshape(-1, 3), weights=d.weights, region=d.region,
+                           region_names=b.region_names, discretization=d,
+                           timings=dict(self.timings), solver=dict(self.solver))
+        return sol, controlled
+
+    def _solve(self, f: np.ndarray, g: np.ndarray) -> np.ndarray:
+        """Full displacements (n, k) for nodal forces ``f`` and the held
+        dofs' displacements ``g`` (n, k; read on the held dofs)."""
+        u = np.zeros_like(f)
+        u[self.held] = g[self.held]
+        rhs = f[self.solved] - self.K_sh @ g[self.held]
+        u[self.solved] = self.factor.solve(rhs)
+        return u
+
+
+def _volume_dofs(body, trace_dofs: np.ndarray) -> np.ndarray:
+    return 3 * body.volume_node[trace_dofs // 3] + trace_dofs % 3
+
+
+def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
+             load_fields=None) -> FiniteElementFlexibility:
+    """Assemble and factor the body's stiffness and condense it on its
+    contact ``nodes`` (trace functional nodes, no condition on them) for the
+    load ``states`` and the frame's traction ``modes`` (required: the
+    contact solver's)."""
+    if modes is None:
+        raise ConfigError(f"{body.name}: a finite-element body is condensed on the frame's "
+                          "traction modes (condense(..., modes=...))")
+    d = body.trace
+    t0 = time.perf_counter()
+    what = f"{body.name}: {body.n_dofs:,} finite-element dofs, {nodes.size:,} contact nodes"
+    if progress is not None:
+        progress(ProgressEvent("start", "assembly", f"assembly {what}"))
+    states = [body.boundary_conditions] if states is None else list(states)
+    data = [body.boundary_data(c) for c in states]
+    known_u = data[0][0]
+    controls = body.controls(states[0])
+    values = np.column_stack([v for _, v in data])
+    forces = np.array([[c.force for c in body.controls(st)] for st in states]).reshape(
+        len(states), len(controls)).T
+    if load_fields is not None:
+        values = np.asarray(load_fields, dtype=float).reshape(3 * d.n_points, -1)
+        forces = np.zeros((len(controls), values.shape[1]))
+    S = values.shape[1]
+    dofs = (3 * nodes[:, None] + np.arange(3)).ravel()
+    if known_u[dofs].any() or np.any(values[dofs] != 0):
+        raise ConfigError(f"{body.name}: the contact surface also has a boundary condition; "
+                          "remove it (the contact decides the tractions there)")
+    n = body.n_dofs
+    vd = _volume_dofs(body, np.arange(3 * d.n_points))
+    # held volume dofs and their displacement per state; platens' indicators
+    ku = np.flatnonzero(known_u)
+    held = np.zeros(n, dtype=bool)
+    held[vd[ku]] = True
+    g_states = np.zeros((n, S))
+    g_states[vd[ku]] = values[ku]
+    indicators = np.zeros((n, len(controls)))
+    for k_, ctl in enumerate(controls):
+        indicators[vd[ctl.dofs], k_] = 1.0
+        g_states[vd[ctl.dofs]] = 0.0
+    # the tractions' consistent nodal forces
+    M = trace_mass(d)
+    T = np.where(known_u[:, None], 0.0, values).reshape(d.n_points, 3 * S)
+    f_trace = (M @ T).reshape(3 * d.n_points, S)
+    f_states = np.zeros((n, S))
+    np.add.at(f_states, vd, f_trace)
+    K, _ = body.stiffness()
+    # free rigid modes, and the pins that hold them
+    X = body.volume.skfem.p.T
+    x = X - X.mean(axis=0)
+    R = np.zeros((X.shape[0], 3, 6))
+    for j in range(3):
+        R[:, j, j] = 1.0
+        e = np.zeros(3)
+        e[j] = 1.0
+        R[:, :, 3 + j] = np.cross(e, x)
+    R = R.reshape(n, 6)
+    Rn = R / np.linalg.norm(R, axis=0)
+    Z = scipy.linalg.null_space(Rn[held], rcond=1e-9) if held.any() else np.eye(6)
+    Rf = Rn @ Z
+    Rf[held] = 0.0
+    nf = Rf.shape[1]
+    solved = ~held
+    if nf:
+        free_idx = np.flatnonzero(solved)
+        _, _, piv = scipy.linalg.qr(Rf[free_idx].T, mode="economic", pivoting=True)
+        solved[free_idx[piv[:nf]]] = False
+    fixed = ~solved
+    K = K.tocsr()
+    Kss = K[solved][:, solved]
+    K_sh = K[solved][:, fixed].tocsr()
+    t1 = time.perf_counter()
+    factor = _Cholesky(Kss)
+    contact_vdofs = vd[dofs]
+    Pc = scipy.sparse.csr_array((np.ones(dofs.size), (contact_vdofs, np.arange(dofs.size))),
+                                shape=(n, dofs.size))
+    flex = FiniteElementFlexibility(
+        body=body, nodes=nodes, dofs=dofs, known_u=known_u, values=values, controls=controls,
+        forces=forces, modes=modes, K=K, K_sh=K_sh, held=fixed, solved=solved, factor=factor,
+        f_states=f_states, g_states=g_states, indicators=indicators, Rf=Rf, Pc=Pc,
+        contact_vdofs=contact_vdofs, trace_vdofs=vd, _S=S,
+        known_modal_force=Rf.T @ f_states,
+    )
+    if progress is not None:
+        progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
+        progress(ProgressEvent("start", "condensation", f"condensation {body.name}"))
+    # reactions on the controlled components: C (K u - f)
+    Crows = scipy.sparse.csr_array(indicators.T) @ K if controls else None
+    # load states and platens (kept whole: recovery), then the modes (contact rows)
+    cols_f = np.hstack([f_states, np.zeros((n, len(controls)))])
+    cols_g = np.hstack([g_states, indicators])
+    u = flex._solve(cols_f, cols_g)
+    flex._u = u
+    flex._R = (Crows @ u - indicators.T @ cols_f) if controls else np.zeros((0, u.shape[1]))
+    r = modes.size
+    F = np.empty((dofs.size, r))
+    CX = np.zeros((len(controls), r))
+    B = modes.B.tocsc()
+    for s in range(0, r, CHUNK):
+        fm = (Pc @ B[:, s : s + CHUNK]).toarray()
+        um = flex._solve(fm, np.zeros_like(fm))
+        F[:, s : s + CHUNK] = um[contact_vdofs]
+        if controls:
+            CX[:, s : s + CHUNK] = Crows @ um - indicators.T @ fm
+    flex._F, flex._CX = F, CX
+    t2 = time.perf_counter()
+    flex.timings = {"assembly": t1 - t0, "condensation": t2 - t1}
+    flex.solver = {"method": "fem (sparse Cholesky)", "dofs": int(n), "pins": int(nf)}
+    if progress is not None:
+        progress(ProgressEvent("end", "condensation", f"condensation {body.name}",
+                               seconds=t2 - t1))
+    return flex
+
+
+__all__ = ["FiniteElementFlexibility", "condense"]

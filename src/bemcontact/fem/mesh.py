@@ -1,0 +1,127 @@
+"""Volume meshes of finite-element bodies: the cells (scikit-fem's mesh),
+their boundary as a :class:`~bemcontact.mesh.SurfaceMesh` with named regions
+(the body's trace, where its conditions and contact surfaces live), and the
+map from each boundary node to its volume node.
+
+Cells: linear tetrahedra (``tet4``) and hexahedra (``hex8``); their boundary
+faces are ``tri3`` and ``quad4`` elements, outward oriented."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+
+from ..errors import ConfigError, MeshError
+from ..mesh import SurfaceMesh
+
+#: cell type -> (scikit-fem mesh class name, boundary element type)
+CELL_TYPES = {"tet4": ("MeshTet", "tri3"), "hex8": ("MeshHex", "quad4")}
+SKFEM_INSTALL = 'pip install "bemcontact[fem]"'
+
+
+def load_skfem():
+    """The scikit-fem module; one line naming the install command if absent."""
+    try:
+        import skfem
+    except ImportError:
+        raise ConfigError(
+            f"a finite-element body needs scikit-fem, which is not installed; {SKFEM_INSTALL}"
+        ) from None
+    return skfem
+
+
+class VolumeMesh:
+    """A volume mesh (n nodes, cells of one type) with named boundary regions.
+
+    Parameters
+    ----------
+    nodes: (n, 3) coordinates.  cells: (c, 4) tetrahedra or (c, 8) hexahedra
+    (scikit-fem's node order).  cell_type: ``"tet4"`` or ``"hex8"``.
+    regions: boundary region name -> a function ``(centroids (f, 3)) -> bool
+    (f,)`` choosing boundary faces, or an array of boundary-face indices
+    (into :attr:`faces`); faces no region claims form ``"free"``.
+    """
+
+    def __init__(self, nodes, cells, cell_type: str, regions: Mapping | None = None, *,
+                 source: str = "volume mesh") -> None:
+        if cell_type not in CELL_TYPES:
+            raise MeshError(f"{source}: cell_type must be one of {sorted(CELL_TYPES)}, got {cell_type!r}")
+        skfem = load_skfem()
+        self.source, self.cell_type = source, cell_type
+        X = np.ascontiguousarray(nodes, dtype=float)
+        C = np.ascontiguousarray(cells, dtype=np.int64)
+        width = 4 if cell_type == "tet4" else 8
+        if X.ndim != 2 or X.shape[1] != 3 or C.ndim != 2 or C.shape[1] != width:
+            raise MeshError(f"{source}: nodes must be (n, 3) and cells (c, {width}), got "
+                            f"{X.shape} and {C.shape}")
+        if C.size and (C.min() < 0 or C.max() >= X.shape[0]):
+            raise MeshError(f"{source}: a cell refers to a node that does not exist")
+        self.skfem = getattr(skfem, CELL_TYPES[cell_type][0])(np.ascontiguousarray(X.T),
+                                                              np.ascontiguousarray(C.T))
+        m = self.skfem
+        faces = m.boundary_facets()
+        verts = m.facets[:, faces].T.copy()  # (f, 3|4), cyclic for hexahedra
+        # outward: against the owning cell's centroid
+        cell = m.f2t[0, faces]
+        cc = m.p[:, m.t[:, cell]].mean(axis=1).T
+        P = m.p.T[verts]
+        n = np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0])
+        flip = np.einsum("ij,ij->i", n, P.mean(axis=1) - cc) < 0
+        verts[flip] = verts[flip][:, ::-1]
+        self.faces = verts
+        centroids = m.p.T[verts].mean(axis=1)
+        claimed = np.full(len(verts), -1)
+        names: list[str] = []
+        for name, choose in (regions or {}).items():
+            if callable(choose):
+                sel = np.flatnonzero(np.asarray(choose(centroids), dtype=bool) & (claimed < 0))
+            else:
+                sel = np.asarray(choose, dtype=np.int64)
+            claimed[sel] = len(names)
+            names.append(name)
+        if (claimed < 0).any():
+            claimed[claimed < 0] = len(names)
+            names.append("free")
+        self.face_region = claimed
+        self.region_names = tuple(names)
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.skfem.p.shape[1])
+
+    def boundary(self) -> tuple[SurfaceMesh, np.ndarray]:
+        """(the boundary as a checked, outward :class:`SurfaceMesh` with the
+        regions, volume node of each of its nodes)."""
+        used = np.unique(self.faces)
+        local = np.full(self.n_nodes, -1, dtype=np.int64)
+        local[used] = np.arange(used.size)
+        regions = {r: np.flatnonzero(self.face_region == i) for i, r in enumerate(self.region_names)}
+        surf = SurfaceMesh(self.skfem.p.T[used], local[self.faces],
+                           CELL_TYPES[self.cell_type][1], regions, source=self.source)
+        return surf.check(), used
+
+
+def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] = (1.0, 1.0, 1.0),
+               divisions: int | Sequence[int] = 4, cell_type: str = "hex8") -> VolumeMesh:
+    """A structured mesh of the box ``lower`` <= x <= ``upper`` (hexahedra,
+    or each cut into tetrahedra), boundary regions ``xmin`` .. ``zmax`` as
+    for :func:`~bemcontact.mesh.box`."""
+    lo = np.asarray(lower, dtype=float)
+    hi = np.asarray(upper, dtype=float)
+    div = np.broadcast_to(np.asarray(divisions, dtype=int), (3,))
+    if not (hi > lo).all() or (div < 1).any():
+        raise ConfigError(f"box_volume: need lower < upper and divisions >= 1, got {lower}, "
+                          f"{upper}, {divisions}")
+    skfem = load_skfem()
+    axes = [np.linspace(lo[i], hi[i], div[i] + 1) for i in range(3)]
+    m = getattr(skfem, CELL_TYPES.get(cell_type, ("MeshHex",))[0]).init_tensor(*axes)
+    tol = 1e-9 * float(np.max(hi - lo))
+    regions = {}
+    for a in range(3):
+        for side, ref in (("min", lo[a]), ("max", hi[a])):
+            regions[f"{'xyz'[a]}{side}"] = (lambda c, a=a, ref=ref: np.abs(c[:, a] - ref) <= tol)
+    return VolumeMesh(m.p.T, m.t.T, cell_type, regions, source="box_volume")
+
+
+__all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem"]

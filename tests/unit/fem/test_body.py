@@ -1,0 +1,155 @@
+"""A finite-element body in contact through the frame (bemcontact.fem).
+
+* The stiffness annihilates the six rigid modes and is symmetric (its
+  reordering to dofs 3i + c is checked by this: a wrong permutation breaks
+  both).
+* The contact patch test (tests/validation/test_contact_patch.py) across a
+  FEM-BEM and a FEM-FEM interface on non-matching meshes (hexahedra against
+  triangles, tetrahedra against hexahedra), the upper block floating in z
+  (held by the contact alone: the pins of the free rigid mode): linear
+  elements represent the exact uniform-stress field, so the tolerance is the
+  BEM's own 1e-8 (measured <= 1e-10 on every pair below).
+* The founding paper's two cubes with one cube FEM: the normal force against
+  the all-BEM answer.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bemcontact import (
+    ConfigError, ContactPair, ContactProblem, Displacement, ElasticBody, LinearElastic, Pressure,
+    SolverOptions, box,
+)
+
+pytest.importorskip("skfem")
+pytest.importorskip("cholespy")
+
+from bemcontact.fem import FiniteElementBody, box_volume  # noqa: E402
+
+P0 = 10.0
+MAT1 = LinearElastic(1.0e4, 0.3)
+MAT2 = LinearElastic(3.0e4, 0.2)
+ROLLERS = {"xmin": Displacement((0.0, None, None)), "ymin": Displacement((None, 0.0, None))}
+
+
+@pytest.mark.parametrize("cell", ["hex8", "tet4"])
+def test_stiffness_annihilates_rigid_modes_and_is_symmetric(cell):
+    body = FiniteElementBody(box_volume((0, 0, 0), (2, 1, 1), (4, 2, 3), cell), MAT1)
+    K, _ = body.stiffness()
+    X = body.volume.skfem.p.T
+    R = np.zeros((X.shape[0], 3, 6))
+    for j in range(3):
+        R[:, j, j] = 1.0
+        e = np.zeros(3)
+        e[j] = 1.0
+        R[:, :, 3 + j] = np.cross(e, X)
+    R = R.reshape(-1, 6)
+    scale = abs(K).max() * np.abs(R).max()
+    assert np.abs(K @ R).max() <= 1e-10 * scale
+    assert abs(K - K.T).max() <= 1e-12 * abs(K).max()
+    # a uniform strain is not annihilated: the reordering keeps x, y, z apart
+    u = np.zeros((X.shape[0], 3))
+    u[:, 0] = X[:, 0]
+    assert np.abs(K @ u.ravel()).max() > 1e-3 * scale
+
+
+def fem_block(lo, hi, divisions, cell, material, conditions, name):
+    return FiniteElementBody(box_volume(lo, hi, divisions, cell), material, conditions, name=name)
+
+
+PAIRS = {
+    "FEM hex8 / BEM tri3": lambda: (
+        fem_block((0, 0, 0), (2, 2, 1), (7, 7, 3), "hex8", MAT1,
+                  {"zmin": Displacement((None, None, 0.0)), **ROLLERS}, "lower"),
+        ElasticBody(box((0, 0, 1), (2, 2, 2), (11, 11, 2), element_type="tri3"), MAT2,
+                    {"zmax": Pressure(P0), **ROLLERS}, name="upper")),
+    "BEM quad4 / FEM tet4": lambda: (
+        ElasticBody(box((0, 0, 0), (2, 2, 1), (6, 6, 2)), MAT1,
+                    {"zmin": Displacement((None, None, 0.0)), **ROLLERS}, name="lower"),
+        fem_block((0, 0, 1), (2, 2, 2), (5, 5, 2), "tet4", MAT2,
+                  {"zmax": Pressure(P0), **ROLLERS}, "upper")),
+    "FEM hex8 / FEM tet4": lambda: (
+        fem_block((0, 0, 0), (2, 2, 1), (7, 7, 3), "hex8", MAT1,
+                  {"zmin": Displacement((None, None, 0.0)), **ROLLERS}, "lower"),
+        fem_block((0, 0, 1), (2, 2, 2), (5, 5, 2), "tet4", MAT2,
+                  {"zmax": Pressure(P0), **ROLLERS}, "upper")),
+    "FEM tet4 / FEM hex8": lambda: (
+        fem_block((0, 0, 0), (2, 2, 1), (7, 7, 3), "tet4", MAT1,
+                  {"zmin": Displacement((None, None, 0.0)), **ROLLERS}, "lower"),
+        fem_block((0, 0, 1), (2, 2, 2), (5, 5, 2), "hex8", MAT2,
+                  {"zmax": Pressure(P0), **ROLLERS}, "upper")),
+}
+
+
+@pytest.fixture(scope="module", params=list(PAIRS))
+def patch(request):
+    lower, upper = PAIRS[request.param]()
+    res = ContactProblem(lower, upper, ContactPair("zmax", "zmin", 0.0)).solve(
+        SolverOptions(tolerance=1e-12))
+    return request.param, res
+
+
+def test_patch_test_across_fem_interfaces(patch):
+    name, res = patch
+    assert res.converged and res.newton_iterations <= 10, name
+    for face in res.interfaces:
+        err = np.abs(face.pressure / P0 - 1).max()
+        assert err <= 1e-8, f"{name}: {face.body} pressure error {err:.2e}"
+        assert np.abs(face.tangential_traction).max() <= 1e-8 * P0, name
+    lower = res.interfaces[0]
+    uz = P0 / MAT1.youngs_modulus
+    assert np.nanmax(np.abs(lower.gap)) <= 1e-8 * uz, name
+    rate = MAT1.poisson_ratio / MAT1.youngs_modulus - MAT2.poisson_ratio / MAT2.youngs_modulus
+    err = np.abs(lower.slip[:, 0] - rate * P0 * lower.points[:, 0]).max() / (rate * P0 * 2.0)
+    assert err <= 1e-8, f"{name}: relative slip deviates from linear by {err:.2e}"
+
+
+def test_patch_test_reactions_balance(patch):
+    """The FEM body's support and contact reactions (its recovered
+    tractions) balance p0 A exactly: uniform stress."""
+    name, res = patch
+    force = P0 * 4.0
+    assert res.normal_force == pytest.approx(force, rel=1e-9), name
+    assert res.bodies[0].reaction("zmax")[2] == pytest.approx(-force, rel=1e-8), name
+    assert res.bodies[0].reaction("zmin")[2] == pytest.approx(force, rel=1e-8), name
+    assert res.bodies[1].reaction("zmax")[2] == pytest.approx(-force, rel=1e-8), name
+
+
+def test_two_cubes_with_one_cube_fem():
+    """The paper's two cubes (E2 = E1, mu = 0.1, top moved 0.04 down), the
+    lower or the upper cube as linear hexahedra at twice the BEM faces'
+    divisions: the normal force against the all-BEM answer.  Measured at
+    n = 6: +0.126 % (FEM lower), +0.161 % (FEM upper); the difference is the
+    FEM's own discretization error (linear elements, O(h^2)), so 0.3 %."""
+    n, E, delta = 6, 1.0e4, 0.04
+    fixed, moved = {"zmin": Displacement((0.0, 0.0, 0.0))}, {"zmax": Displacement((0, 0, -delta))}
+    mat = LinearElastic(E, 0.3)
+
+    def bem(lo, hi, k, bc, name):
+        return ElasticBody(box(lo, hi, k), mat, bc, name=name)
+
+    def fem(lo, hi, k, bc, name):
+        return fem_block(lo, hi, 2 * k, "hex8", mat, bc, name)
+
+    forces = []
+    for make_lower, make_upper in ((bem, bem), (fem, bem), (bem, fem)):
+        lower = make_lower((0, 0, 0), (2, 2, 2), n, fixed, "lower")
+        upper = make_upper((0, 0, 2), (2, 2, 4), n - 1, moved, "upper")
+        res = ContactProblem(lower, upper, ContactPair("zmax", "zmin", 0.1)).solve(SolverOptions())
+        assert res.converged
+        forces.append(res.normal_force)
+    assert forces[1] == pytest.approx(forces[0], rel=3e-3)
+    assert forces[2] == pytest.approx(forces[0], rel=3e-3)
+
+
+def test_a_surface_mesh_is_refused_in_one_line():
+    with pytest.raises(ConfigError, match="lower: a finite-element body needs a VolumeMesh, "
+                                          "got SurfaceMesh"):
+        FiniteElementBody(box((0, 0, 0), (1, 1, 1), 2), MAT1, name="lower")
+
+
+def test_unknown_region_is_refused():
+    with pytest.raises(ConfigError, match="unknown region 'top'"):
+        fem_block((0, 0, 0), (1, 1, 1), 2, "hex8", MAT1, {"top": Pressure(1.0)}, "b")
