@@ -86,18 +86,32 @@ class FiniteElementBody:
         return 3 * self.volume.n_nodes
 
     def stiffness(self):
-        """The stiffness matrix (3n, 3n) (scipy CSR; dof 3i + c is component c
-        of volume node i) and the scikit-fem basis it was assembled on."""
-        from skfem import Basis, ElementHex1, ElementTetP1, ElementVector, asm
-        from skfem.models.elasticity import lame_parameters, linear_elasticity
+        """The stiffness matrix (3n, 3n), scipy CSR, dof 3i + c component c
+        of volume node i.  Assembled from the nine scalar matrices
+        G_kl = ∫ ∂_k φ_a ∂_l φ_b (scikit-fem, one cheap form each) as
+        K^(ij) = Σ_kl C_ikjl G_kl: the elasticity tensor enters only in the
+        combination (isotropic here: λ G_ij + μ G_ji + μ δ_ij Σ_k G_kk)."""
+        import scipy.sparse
+        from skfem import BilinearForm, asm
 
-        el = ElementTetP1() if self.volume.cell_type == "tet4" else ElementHex1()
-        basis = Basis(self.volume.skfem, ElementVector(el))
-        K = asm(linear_elasticity(*lame_parameters(self.material.youngs_modulus,
-                                                   self.material.poisson_ratio)), basis)
-        # scikit-fem numbers vector dofs node by node (nodal_dofs (3, n)): reorder to 3i + c
-        order = np.asarray(basis.nodal_dofs).T.ravel()
-        K = K.tocsr()[order][:, order]
+        basis = self.volume.basis()
+        order = self.volume.dof_order
+        G = [[None] * 3 for _ in range(3)]
+        for k in range(3):
+            for l_ in range(k, 3):
+                form = BilinearForm(lambda u, v, w, k=k, l_=l_: v.grad[k] * u.grad[l_])
+                G[k][l_] = asm(form, basis).tocsr()[order][:, order]
+                G[l_][k] = G[k][l_].T.tocsr()
+        E, nu = self.material.youngs_modulus, self.material.poisson_ratio
+        lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+        lap = G[0][0] + G[1][1] + G[2][2]
+        K = None
+        for i in range(3):
+            for j in range(3):
+                block = lam * G[i][j] + mu * G[j][i] + (mu * lap if i == j else 0)
+                unit = scipy.sparse.csr_array(([1.0], ([i], [j])), shape=(3, 3))
+                term = scipy.sparse.kron(block, unit, format="csr")
+                K = term if K is None else K + term
         return K.tocsr(), basis
 
     def condense(self, nodes: np.ndarray, threads=None, states=None, progress=None,
@@ -126,7 +140,8 @@ class FiniteElementBody:
             a = np.ascontiguousarray(part)
             h.update(f"{a.dtype.str}{a.shape}".encode())
             h.update(a.tobytes())
-        h.update(repr(("fem", self.volume.cell_type, self.region_names, self.material)).encode())
+        h.update(repr(("fem", self.volume.cell_type, self.volume.order, self.region_names,
+                       self.material)).encode())
         return h.hexdigest()
 
     def same_model(self, other) -> bool:
@@ -140,6 +155,7 @@ class FiniteElementBody:
         vol = copy.copy(v)
         vol.skfem = type(v.skfem)(np.ascontiguousarray(v.skfem.p - np.asarray(origin, dtype=float)[:, None]),
                                   v.skfem.t)
+        vol._basis = None
         c.volume = vol
         c.mesh, s2v = vol.boundary()
         c._disc, c.volume_node = trace_discretization(c.mesh, s2v)

@@ -188,7 +188,7 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     np.add.at(f_states, vd, f_trace)
     K, _ = body.stiffness()
     # free rigid modes, and the pins that hold them
-    X = body.volume.skfem.p.T
+    X = body.volume.node_points
     x = X - X.mean(axis=0)
     R = np.zeros((X.shape[0], 3, 6))
     for j in range(3):

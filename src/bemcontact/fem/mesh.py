@@ -3,8 +3,12 @@ their boundary as a :class:`~bemcontact.mesh.SurfaceMesh` with named regions
 (the body's trace, where its conditions and contact surfaces live), and the
 map from each boundary node to its volume node.
 
-Cells: linear tetrahedra (``tet4``) and hexahedra (``hex8``); their boundary
-faces are ``tri3`` and ``quad4`` elements, outward oriented."""
+Cells: tetrahedra (``tet4``) and hexahedra (``hex8``), straight-sided, with
+linear (``order=1``: P1, Q1) or quadratic (``order=2``: P2, Q2) elements on
+them; the boundary faces are ``tri3`` / ``quad4`` (linear) or ``tri6`` /
+``quad9`` (quadratic) elements, outward oriented.  The *volume nodes* are
+the elements' nodes (vertices, then edge, face and cell nodes of quadratic
+elements), volume dof ``3 i + c`` component c of node i."""
 
 from __future__ import annotations
 
@@ -15,8 +19,10 @@ import numpy as np
 from ..errors import ConfigError, MeshError
 from ..mesh import SurfaceMesh
 
-#: cell type -> (scikit-fem mesh class name, boundary element type)
-CELL_TYPES = {"tet4": ("MeshTet", "tri3"), "hex8": ("MeshHex", "quad4")}
+#: cell type -> (scikit-fem mesh class name, boundary element type per order,
+#: scikit-fem element class per order)
+CELL_TYPES = {"tet4": ("MeshTet", ("tri3", "tri6"), ("ElementTetP1", "ElementTetP2")),
+              "hex8": ("MeshHex", ("quad4", "quad9"), ("ElementHex1", "ElementHex2"))}
 SKFEM_INSTALL = 'pip install "bemcontact[fem]"'
 
 
@@ -44,7 +50,10 @@ class VolumeMesh:
     """
 
     def __init__(self, nodes, cells, cell_type: str, regions: Mapping | None = None, *,
-                 source: str = "volume mesh") -> None:
+                 order: int = 1, source: str = "volume mesh") -> None:
+        if order not in (1, 2):
+            raise MeshError(f"{source}: order must be 1 or 2, got {order!r}")
+        self.order = order
         if cell_type not in CELL_TYPES:
             raise MeshError(f"{source}: cell_type must be one of {sorted(CELL_TYPES)}, got {cell_type!r}")
         skfem = load_skfem()
@@ -86,24 +95,64 @@ class VolumeMesh:
         self.face_region = claimed
         self.region_names = tuple(names)
 
+        self._basis = None
+
+    def basis(self):
+        """The scikit-fem basis of the scalar elements (built once); a
+        displacement component is one such field per direction."""
+        if self._basis is None:
+            skfem = load_skfem()
+            el = getattr(skfem, CELL_TYPES[self.cell_type][2][self.order - 1])()
+            b = skfem.Basis(self.skfem, el)
+            parts = [np.asarray(getattr(b, k)).ravel()
+                     for k in ("nodal_dofs", "edge_dofs", "facet_dofs", "interior_dofs")]
+            self._basis = b
+            #: the basis's dof of each volume node
+            self.dof_order = np.concatenate(parts).astype(np.int64)
+            self.node_points = np.ascontiguousarray(b.doflocs[:, self.dof_order].T)
+        return self._basis
+
     @property
     def n_nodes(self) -> int:
-        return int(self.skfem.p.shape[1])
+        self.basis()
+        return int(self.node_points.shape[0])
+
+    def _face_nodes(self) -> np.ndarray:
+        """(f, k) volume nodes of each boundary face in the surface element's
+        order: corners, then (quadratic) the edges' nodes, the face's."""
+        V = self.faces
+        if self.order == 1:
+            return V
+        m = self.skfem
+        nv = m.p.shape[1]
+        e = np.sort(m.edges, axis=0)
+        ekey = e[0] * nv + e[1]
+        srt = np.argsort(ekey)
+        a, b = V, np.roll(V, -1, axis=1)
+        key = np.minimum(a, b) * nv + np.maximum(a, b)
+        edge = srt[np.searchsorted(ekey[srt], key)]
+        cols = [V, nv + edge]
+        if self.cell_type == "hex8":
+            faces = m.boundary_facets()
+            cols.append((nv + m.edges.shape[1] + faces)[:, None])
+        return np.hstack(cols)
 
     def boundary(self) -> tuple[SurfaceMesh, np.ndarray]:
         """(the boundary as a checked, outward :class:`SurfaceMesh` with the
         regions, volume node of each of its nodes)."""
-        used = np.unique(self.faces)
+        F = self._face_nodes()
+        used = np.unique(F)
         local = np.full(self.n_nodes, -1, dtype=np.int64)
         local[used] = np.arange(used.size)
         regions = {r: np.flatnonzero(self.face_region == i) for i, r in enumerate(self.region_names)}
-        surf = SurfaceMesh(self.skfem.p.T[used], local[self.faces],
-                           CELL_TYPES[self.cell_type][1], regions, source=self.source)
+        surf = SurfaceMesh(self.node_points[used], local[F],
+                           CELL_TYPES[self.cell_type][1][self.order - 1], regions, source=self.source)
         return surf.check(), used
 
 
 def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] = (1.0, 1.0, 1.0),
-               divisions: int | Sequence[int] = 4, cell_type: str = "hex8") -> VolumeMesh:
+               divisions: int | Sequence[int] = 4, cell_type: str = "hex8", order: int = 1
+               ) -> VolumeMesh:
     """A structured mesh of the box ``lower`` <= x <= ``upper`` (hexahedra,
     or each cut into tetrahedra), boundary regions ``xmin`` .. ``zmax`` as
     for :func:`~bemcontact.mesh.box`."""
@@ -121,7 +170,7 @@ def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] 
     for a in range(3):
         for side, ref in (("min", lo[a]), ("max", hi[a])):
             regions[f"{'xyz'[a]}{side}"] = (lambda c, a=a, ref=ref: np.abs(c[:, a] - ref) <= tol)
-    return VolumeMesh(m.p.T, m.t.T, cell_type, regions, source="box_volume")
+    return VolumeMesh(m.p.T, m.t.T, cell_type, regions, order=order, source="box_volume")
 
 
 __all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem"]
