@@ -124,13 +124,16 @@ class FiniteElementBody:
 
     def condensation_bytes(self, contact_nodes: int, modes: int, states: int, controls: int,
                            linear, chunk: int) -> tuple[float, float]:
-        """(peak, kept) bytes of :meth:`condense`: the stiffness and its
-        Cholesky factor (taken as 60 entries of fill per dof, the measured
-        order for 3D elasticity at 10^4-10^5 dofs), a block of right-hand
-        sides and the contact responses kept."""
+        """(peak, kept) bytes of :meth:`condense`: the Cholesky factor of
+        the stiffness, taken as 40 n^(4/3) entries for n dofs (nested
+        dissection's growth in 3D, its constant from the measured peaks:
+        0.73 GB at 27,783 dofs, 6.1 GB at 199,287; benchmarks/
+        fem_sparse_solvers.py), 1.5 of it for the workspace, a block of
+        right-hand sides and the contact responses kept."""
         n = self.n_dofs
         kept = 8.0 * 3 * contact_nodes * (modes + states + controls + 6)
-        return 8.0 * (90.0 * n + n * min(256, modes + states + controls)) * 1.5 + kept, kept
+        factor = 40.0 * n ** (4.0 / 3.0)
+        return 8.0 * (1.5 * factor + 2.0 * n * 256) + kept, kept
 
     def model_key(self) -> str:
         """A hex SHA-256 of the volume mesh, its regions and the material."""
