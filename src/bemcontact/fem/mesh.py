@@ -150,6 +150,35 @@ class VolumeMesh:
         return surf.check(), used
 
 
+def read_volume_mesh(path: str, order: int = 1) -> VolumeMesh:
+    """A volume mesh from any file meshio reads (gmsh ``.msh`` with named
+    physical groups: its surface groups become the boundary regions),
+    tetrahedra or hexahedra, with elements of ``order`` on them.  A file
+    without cells of a volume (a surface mesh) is one line naming it."""
+    import os
+
+    skfem = load_skfem()
+    if not os.path.isfile(path):
+        raise MeshError(f"{path}: no such file")
+    try:
+        m = skfem.Mesh.load(path)
+    except Exception as exc:  # noqa: BLE001 - meshio/scikit-fem: many kinds
+        raise MeshError(f"{path}: cannot read a volume mesh from it ({type(exc).__name__}: "
+                        f"{exc}); a finite-element body needs tetrahedra or hexahedra") from None
+    kinds = {"MeshTet1": "tet4", "MeshHex1": "hex8"}
+    if type(m).__name__ not in kinds:
+        raise MeshError(f"{path}: holds {type(m).__name__} cells; a finite-element body needs "
+                        "linear tetrahedra or hexahedra (a volume mesh, not a surface mesh)")
+    faces = m.boundary_facets()
+    where = np.full(m.facets.shape[1], -1)
+    where[faces] = np.arange(faces.size)
+    regions = {}
+    for name, facets in (m.boundaries or {}).items():
+        idx = where[np.asarray(facets)]
+        regions[name] = idx[idx >= 0]
+    return VolumeMesh(m.p.T, m.t.T, kinds[type(m).__name__], regions, order=order, source=path)
+
+
 def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] = (1.0, 1.0, 1.0),
                divisions: int | Sequence[int] = 4, cell_type: str = "hex8", order: int = 1
                ) -> VolumeMesh:
@@ -173,4 +202,4 @@ def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] 
     return VolumeMesh(m.p.T, m.t.T, cell_type, regions, order=order, source="box_volume")
 
 
-__all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem"]
+__all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem", "read_volume_mesh"]

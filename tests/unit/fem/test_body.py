@@ -169,3 +169,63 @@ def test_a_surface_mesh_is_refused_in_one_line():
 def test_unknown_region_is_refused():
     with pytest.raises(ConfigError, match="unknown region 'top'"):
         fem_block((0, 0, 0), (1, 1, 1), 2, "hex8", MAT1, {"top": Pressure(1.0)}, "b")
+
+
+def gmsh_box_volume(path, lo, hi, size):
+    """A box meshed in volume by gmsh (unstructured tetrahedra), its six
+    faces named physical groups ``xmin`` .. ``zmax``, written to ``path``."""
+    gmsh = pytest.importorskip("gmsh")
+    gmsh.initialize()
+    try:
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add("box")
+        vol = gmsh.model.occ.addBox(*lo, *(b - a for a, b in zip(lo, hi)))
+        gmsh.model.occ.synchronize()
+        for _, tag in gmsh.model.getBoundary([(3, vol)], oriented=False):
+            c = gmsh.model.occ.getCenterOfMass(2, tag)
+            for a in range(3):
+                for side, ref in (("min", lo[a]), ("max", hi[a])):
+                    if abs(c[a] - ref) < 1e-9:
+                        gmsh.model.addPhysicalGroup(2, [tag], name=f"{'xyz'[a]}{side}")
+        gmsh.model.addPhysicalGroup(3, [vol], name="solid")
+        gmsh.option.setNumber("Mesh.MeshSizeMax", size)
+        gmsh.model.mesh.generate(3)
+        gmsh.write(str(path))
+    finally:
+        gmsh.finalize()
+    return str(path)
+
+
+def test_a_gmsh_volume_mesh_passes_the_patch_test(tmp_path):
+    """Unstructured P2 tetrahedra read from a gmsh file (its physical
+    surface groups the regions) against a structured BEM quad4 block."""
+    from bemcontact.fem import read_volume_mesh
+
+    path = gmsh_box_volume(tmp_path / "lower.msh", (0, 0, 0), (2, 2, 1), 0.45)
+    volume = read_volume_mesh(path, order=2)
+    assert set(volume.region_names) == {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"}
+    lower = FiniteElementBody(volume, MAT1, {"zmin": Displacement((None, None, 0.0)), **ROLLERS},
+                              name="lower")
+    upper = ElasticBody(box((0, 0, 1), (2, 2, 2), (6, 6, 2)), MAT2,
+                        {"zmax": Pressure(P0), **ROLLERS}, name="upper")
+    res = ContactProblem(lower, upper, ContactPair("zmax", "zmin", 0.0)).solve(
+        SolverOptions(tolerance=1e-12))
+    assert res.converged
+    for face in res.interfaces:
+        assert np.abs(face.pressure / P0 - 1).max() <= 1e-8, face.body
+    assert res.bodies[0].reaction("zmin")[2] == pytest.approx(4 * P0, rel=1e-8)
+
+
+def test_a_surface_mesh_file_is_refused_in_one_line(tmp_path):
+    from bemcontact.errors import MeshError
+    from bemcontact.fem import read_volume_mesh
+
+    meshio = pytest.importorskip("meshio")
+    path = tmp_path / "surface.vtu"
+    meshio.write_points_cells(str(path), np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0.0]]),
+                              [("triangle", np.array([[0, 1, 2]]))])
+    with pytest.raises(MeshError) as info:
+        read_volume_mesh(str(path))
+    message = str(info.value)
+    assert message.startswith(str(path)) and "\n" not in message
+    assert "tetrahedra or hexahedra" in message
