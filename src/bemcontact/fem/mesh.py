@@ -42,11 +42,20 @@ class VolumeMesh:
 
     Parameters
     ----------
-    nodes: (n, 3) coordinates.  cells: (c, 4) tetrahedra or (c, 8) hexahedra
-    (scikit-fem's node order).  cell_type: ``"tet4"`` or ``"hex8"``.
-    regions: boundary region name -> a function ``(centroids (f, 3)) -> bool
-    (f,)`` choosing boundary faces, or an array of boundary-face indices
-    (into :attr:`faces`); faces no region claims form ``"free"``.
+    nodes:
+        (n, 3) coordinates.
+    cells:
+        (c, 4) tetrahedra or (c, 8) hexahedra, in scikit-fem's node order.
+    cell_type:
+        ``"tet4"`` or ``"hex8"``.
+    regions:
+        Boundary region name -> a function of the boundary faces' centroids
+        (f, 3) returning a boolean (f,) choice, or an array of boundary-face
+        indices (into ``faces``); faces no region claims form ``"free"``.
+    order:
+        1 (linear elements) or 2 (quadratic) on the cells.
+    source:
+        Named in messages.
     """
 
     def __init__(self, nodes, cells, cell_type: str, regions: Mapping | None = None, *,
