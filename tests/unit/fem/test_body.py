@@ -175,7 +175,9 @@ def gmsh_box_volume(path, lo, hi, size):
     """A box meshed in volume by gmsh (unstructured tetrahedra), its six
     faces named physical groups ``xmin`` .. ``zmax``, written to ``path``."""
     gmsh = pytest.importorskip("gmsh")
-    gmsh.initialize()
+    # not interruptible: gmsh would otherwise set SIGINT to SIG_DFL for the
+    # whole process (as bemcontact's own mesher, mesh/mesher.py, avoids too)
+    gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("box")
