@@ -4,6 +4,8 @@ the contact nodes (:mod:`.condensation`), behind the same body seam as a
 BEM body (:class:`~bemcontact.contact.flexibility.Body`)."""
 
 from .body import FiniteElementBody
+from .material import AnisotropicElastic
 from .mesh import VolumeMesh, box_volume, read_volume_mesh
 
-__all__ = ["FiniteElementBody", "VolumeMesh", "box_volume", "read_volume_mesh"]
+__all__ = ["AnisotropicElastic", "FiniteElementBody", "VolumeMesh", "box_volume",
+           "read_volume_mesh"]

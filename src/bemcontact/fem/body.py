@@ -22,8 +22,8 @@ import numpy as np
 
 from ..bem.body import ElasticBody
 from ..bem.conditions import BoundaryCondition
-from ..bem.material import LinearElastic
 from ..errors import ConfigError
+from .material import MATERIAL_TYPES, elasticity_tensor, isotropic_estimate
 from .mesh import VolumeMesh
 from .trace import trace_discretization
 
@@ -34,23 +34,27 @@ class FiniteElementBody:
     Parameters
     ----------
     volume: :class:`~bemcontact.fem.mesh.VolumeMesh`.
-    material: :class:`~bemcontact.bem.material.LinearElastic`.
+    material: :class:`~bemcontact.bem.material.LinearElastic` or
+        :class:`~bemcontact.fem.material.AnisotropicElastic` for the whole
+        body, or a mapping volume region -> material (one for every region
+        of ``volume.volume_names``: a coating and its substrate).
     boundary_conditions: region name -> condition(s), as for
         :class:`~bemcontact.bem.body.ElasticBody`; regions not listed are
         traction free.
     name: used in messages.
     """
 
-    def __init__(self, volume: VolumeMesh, material: LinearElastic,
+    def __init__(self, volume: VolumeMesh, material,
                  boundary_conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]]
                  | None = None, *, name: str = "body") -> None:
         if not isinstance(volume, VolumeMesh):
             raise ConfigError(f"{name}: a finite-element body needs a VolumeMesh, got "
                               f"{type(volume).__name__}")
-        if not isinstance(material, LinearElastic):
-            raise ConfigError(f"{name}: material must be a LinearElastic, got "
-                              f"{type(material).__name__}")
-        self.name, self.volume, self.material = name, volume, material
+        self.name, self.volume = name, volume
+        self.materials = _materials(name, volume, material)
+        #: the body's one material, or None with several
+        self.material = material if not isinstance(material, Mapping) else (
+            next(iter(self.materials.values())) if len(self.materials) == 1 else None)
         self.mesh, surface_to_volume = volume.boundary()
         self._disc, self.volume_node = trace_discretization(self.mesh, surface_to_volume)
         self.boundary_conditions = self.checked_conditions(boundary_conditions or {})
@@ -78,8 +82,20 @@ class FiniteElementBody:
 
     @property
     def contact_compliance(self) -> float:
-        """(1 - nu^2) / E: the body's share of 1/E*."""
-        return (1 - self.material.poisson_ratio**2) / self.material.youngs_modulus
+        """(1 - nu^2) / E of the materials at the boundary, averaged over
+        its area (an anisotropic one's isotropic estimate): the body's share
+        of 1/E* in the estimates of a contact's size and stiffness."""
+        v = self.volume
+        m = v.skfem
+        P = m.p.T[v.faces]
+        area = np.linalg.norm(np.cross(P[:, 1] - P[:, 0], P[:, 2] - P[:, 0]), axis=1)
+        per = np.zeros(len(v.volume_names))
+        np.add.at(per, v.cell_region[v.face_cell], area)
+        c = 0.0
+        for r, name in enumerate(v.volume_names):
+            iso = isotropic_estimate(self.materials[name])
+            c += per[r] * (1 - iso.poisson_ratio**2) / iso.youngs_modulus
+        return float(c / per.sum())
 
     @property
     def n_dofs(self) -> int:
@@ -87,30 +103,42 @@ class FiniteElementBody:
 
     def stiffness(self):
         """The stiffness matrix (3n, 3n), scipy CSR, dof 3i + c component c
-        of volume node i.  Assembled from the nine scalar matrices
-        G_kl = ∫ ∂_k φ_a ∂_l φ_b (scikit-fem, one cheap form each) as
-        K^(ij) = Σ_kl C_ikjl G_kl: the elasticity tensor enters only in the
-        combination (isotropic here: λ G_ij + μ G_ji + μ δ_ij Σ_k G_kk)."""
+        of volume node i.  Assembled per volume region from the nine scalar
+        matrices G_kl = ∫ ∂_k φ_a ∂_l φ_b (scikit-fem, one cheap form each)
+        as K^(ij) = Σ_kl C_ikjl G_kl, C the region's elasticity tensor."""
         import scipy.sparse
-        from skfem import BilinearForm, asm
+        from skfem import Basis, BilinearForm, asm
 
-        basis = self.volume.basis()
-        order = self.volume.dof_order
-        G = [[None] * 3 for _ in range(3)]
-        for k in range(3):
-            for l_ in range(k, 3):
-                form = BilinearForm(lambda u, v, w, k=k, l_=l_: v.grad[k] * u.grad[l_])
-                G[k][l_] = asm(form, basis).tocsr()[order][:, order]
-                G[l_][k] = G[k][l_].T.tocsr()
-        E, nu = self.material.youngs_modulus, self.material.poisson_ratio
-        lam, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
-        lap = G[0][0] + G[1][1] + G[2][2]
+        v = self.volume
+        basis = v.basis()
+        order = v.dof_order
+        blocks = [[None] * 3 for _ in range(3)]
+        for r, name in enumerate(v.volume_names):
+            cells = np.flatnonzero(v.cell_region == r)
+            sub = basis if len(v.volume_names) == 1 else Basis(v.skfem, basis.elem, elements=cells)
+            G = [[None] * 3 for _ in range(3)]
+            for k in range(3):
+                for l_ in range(k, 3):
+                    form = BilinearForm(lambda u, w_, w, k=k, l_=l_: w_.grad[k] * u.grad[l_])
+                    G[k][l_] = asm(form, sub).tocsr()[order][:, order]
+                    G[l_][k] = G[k][l_].T.tocsr()
+            C = elasticity_tensor(self.materials[name])
+            scale = np.abs(C).max()
+            for i in range(3):
+                for j in range(3):
+                    for k in range(3):
+                        for l_ in range(3):
+                            c = C[i, k, j, l_]
+                            if abs(c) > 1e-14 * scale:
+                                term = c * G[k][l_]
+                                blocks[i][j] = term if blocks[i][j] is None else blocks[i][j] + term
         K = None
         for i in range(3):
             for j in range(3):
-                block = lam * G[i][j] + mu * G[j][i] + (mu * lap if i == j else 0)
+                if blocks[i][j] is None:
+                    continue
                 unit = scipy.sparse.csr_array(([1.0], ([i], [j])), shape=(3, 3))
-                term = scipy.sparse.kron(block, unit, format="csr")
+                term = scipy.sparse.kron(blocks[i][j], unit, format="csr")
                 K = term if K is None else K + term
         return K.tocsr(), basis
 
@@ -135,6 +163,27 @@ class FiniteElementBody:
         factor = 40.0 * n ** (4.0 / 3.0)
         return 8.0 * (1.5 * factor + 2.0 * n * 256) + kept, kept
 
+    def stresses(self, solution, points) -> np.ndarray:
+        """Stresses (n, 6) at ``points`` (n, 3) inside this body for its
+        ``solution`` (:func:`~bemcontact.fem.fields.point_stresses`)."""
+        from .fields import point_stresses
+
+        return point_stresses(self, _volume_displacement(self, solution), points)
+
+    def surface_stresses(self, solution) -> np.ndarray:
+        """Stresses (N, 6) at the functional nodes of ``solution``
+        (:func:`~bemcontact.fem.fields.trace_stresses`)."""
+        from .fields import trace_stresses
+
+        return trace_stresses(self, _volume_displacement(self, solution))
+
+    def volume_fields(self, solution):
+        """The volume mesh's VTU content for ``solution``
+        (:func:`~bemcontact.fem.fields.volume_fields`)."""
+        from .fields import volume_fields
+
+        return volume_fields(self, _volume_displacement(self, solution))
+
     def model_key(self) -> str:
         """A hex SHA-256 of the volume mesh, its regions and the material."""
         h = hashlib.sha256()
@@ -143,8 +192,10 @@ class FiniteElementBody:
             a = np.ascontiguousarray(part)
             h.update(f"{a.dtype.str}{a.shape}".encode())
             h.update(a.tobytes())
+        a = np.ascontiguousarray(self.volume.cell_region)
+        h.update(a.tobytes())
         h.update(repr(("fem", self.volume.cell_type, self.volume.order, self.region_names,
-                       self.material)).encode())
+                       self.volume.volume_names, sorted(self.materials.items()))).encode())
         return h.hexdigest()
 
     def same_model(self, other) -> bool:
@@ -163,6 +214,36 @@ class FiniteElementBody:
         c.mesh, s2v = vol.boundary()
         c._disc, c.volume_node = trace_discretization(c.mesh, s2v)
         return c
+
+
+def _volume_displacement(body, solution) -> np.ndarray:
+    u = getattr(solution, "volume_displacement", None)
+    if u is None or u.shape != (body.volume.n_nodes, 3):
+        raise ConfigError(f"{body.name}: the solution holds no volume displacement of this "
+                          "body (a finite-element body's own solution does)")
+    return u
+
+
+def _materials(name: str, volume: VolumeMesh, material) -> dict:
+    """Volume region -> material, one for every region of ``volume``."""
+    if not isinstance(material, Mapping):
+        material = {r: material for r in volume.volume_names}
+    out = {}
+    for r, m in material.items():
+        if r not in volume.volume_names:
+            raise ConfigError(f"{name}: the volume mesh has no volume region {r!r} (its "
+                              f"regions: {', '.join(volume.volume_names)})",
+                              location={"region": r})
+        if not isinstance(m, MATERIAL_TYPES):
+            raise ConfigError(f"{name}: the material of {r!r} must be a LinearElastic or an "
+                              f"AnisotropicElastic, got {type(m).__name__}", location={"region": r})
+        out[r] = m
+    missing = [r for r in volume.volume_names if r not in out]
+    if missing:
+        raise ConfigError(f"{name}: volume region {missing[0]!r} has no material (give one "
+                          f"for each of {', '.join(volume.volume_names)})",
+                          location={"region": missing[0]})
+    return out
 
 
 __all__ = ["FiniteElementBody"]

@@ -29,9 +29,9 @@ import numpy as np
 import scipy.linalg
 import scipy.sparse
 
-from ..bem.solution import BodySolution
 from ..errors import ConfigError
 from ..progress import ProgressEvent
+from .fields import VolumeSolution
 from .trace import trace_mass
 
 #: columns solved at once (bounds the dense block to CHUNK x free dofs)
@@ -81,7 +81,7 @@ class FiniteElementFlexibility:
         translation that strains nothing has none, exactly (as for a BEM
         body, :attr:`~bemcontact.bem.condensation.CondensedBody.CY`)."""
         CY = self._R[:, self._S:].copy()
-        E = self.body.material.youngs_modulus
+        E = 1.0 / self.body.contact_compliance
         for k_, ctl in enumerate(self.controls):
             size = math.sqrt(self.body.trace.weights[ctl.dofs // 3].sum())
             if abs(CY[k_, k_]) <= 1e-8 * E * size:
@@ -119,10 +119,11 @@ class FiniteElementFlexibility:
         controlled: dict[str, np.ndarray] = {}
         for ctl, Uk in zip(self.controls, U):
             controlled.setdefault(ctl.region, np.full(3, np.nan))[ctl.component] = Uk
-        sol = BodySolution(points=d.points, normals=d.normals, displacement=disp.reshape(-1, 3),
-                           traction=t.reshape(-1, 3), weights=d.weights, region=d.region,
-                           region_names=b.region_names, discretization=d,
-                           timings=dict(self.timings), solver=dict(self.solver))
+        sol = VolumeSolution(points=d.points, normals=d.normals,
+                             displacement=disp.reshape(-1, 3), traction=t.reshape(-1, 3),
+                             weights=d.weights, region=d.region, region_names=b.region_names,
+                             discretization=d, timings=dict(self.timings),
+                             solver=dict(self.solver), volume_displacement=u.reshape(-1, 3))
         return sol, controlled
 
     def _solve(self, f: np.ndarray, g: np.ndarray) -> np.ndarray:

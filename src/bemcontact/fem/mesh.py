@@ -52,6 +52,11 @@ class VolumeMesh:
         Boundary region name -> a function of the boundary faces' centroids
         (f, 3) returning a boolean (f,) choice, or an array of boundary-face
         indices (into ``faces``); faces no region claims form ``"free"``.
+    volumes:
+        Volume region name (a material's domain) -> a function of the
+        cells' centroids (c, 3) returning a boolean (c,) choice, or an array
+        of cell indices; cells no region claims form ``"body"`` (all of
+        them without ``volumes``).
     order:
         1 (linear elements) or 2 (quadratic) on the cells.
     source:
@@ -59,7 +64,8 @@ class VolumeMesh:
     """
 
     def __init__(self, nodes, cells, cell_type: str, regions: Mapping | None = None, *,
-                 order: int = 1, source: str = "volume mesh") -> None:
+                 volumes: Mapping | None = None, order: int = 1,
+                 source: str = "volume mesh") -> None:
         if order not in (1, 2):
             raise MeshError(f"{source}: order must be 1 or 2, got {order!r}")
         self.order = order
@@ -88,21 +94,13 @@ class VolumeMesh:
         flip = np.einsum("ij,ij->i", n, P.mean(axis=1) - cc) < 0
         verts[flip] = verts[flip][:, ::-1]
         self.faces = verts
-        centroids = m.p.T[verts].mean(axis=1)
-        claimed = np.full(len(verts), -1)
-        names: list[str] = []
-        for name, choose in (regions or {}).items():
-            if callable(choose):
-                sel = np.flatnonzero(np.asarray(choose(centroids), dtype=bool) & (claimed < 0))
-            else:
-                sel = np.asarray(choose, dtype=np.int64)
-            claimed[sel] = len(names)
-            names.append(name)
-        if (claimed < 0).any():
-            claimed[claimed < 0] = len(names)
-            names.append("free")
+        claimed, names = _claim(m.p.T[verts].mean(axis=1), regions, "free", source, "region")
         self.face_region = claimed
         self.region_names = tuple(names)
+        self.cell_region, self.volume_names = _claim(
+            m.p[:, m.t].mean(axis=1).T, volumes, "body", source, "volume")
+        #: the cell owning each boundary face
+        self.face_cell = cell
 
         self._basis = None
 
@@ -159,10 +157,33 @@ class VolumeMesh:
         return surf.check(), used
 
 
+def _claim(centroids: np.ndarray, choices: Mapping | None, rest: str, source: str, what: str
+           ) -> tuple[np.ndarray, tuple[str, ...]]:
+    """(index of the region of each item, names): each choice takes the
+    items it selects that no earlier one took; the others form ``rest``."""
+    claimed = np.full(len(centroids), -1)
+    names: list[str] = []
+    for name, choose in (choices or {}).items():
+        if callable(choose):
+            sel = np.flatnonzero(np.asarray(choose(centroids), dtype=bool) & (claimed < 0))
+        else:
+            sel = np.asarray(choose, dtype=np.int64)
+            if sel.size and (sel.min() < 0 or sel.max() >= len(centroids)):
+                raise MeshError(f"{source}: {what} {name!r} names an index beyond the "
+                                f"{len(centroids)} there are")
+        claimed[sel] = len(names)
+        names.append(name)
+    if (claimed < 0).any():
+        claimed[claimed < 0] = len(names)
+        names.append(rest)
+    return claimed, tuple(names)
+
+
 def read_volume_mesh(path: str, order: int = 1) -> VolumeMesh:
     """A volume mesh from any file meshio reads (gmsh ``.msh`` with named
-    physical groups: its surface groups become the boundary regions),
-    tetrahedra or hexahedra, with elements of ``order`` on them.  A file
+    physical groups: its surface groups become the boundary regions, its
+    volume groups the volume regions), tetrahedra or hexahedra, with
+    elements of ``order`` on them.  A file
     without cells of a volume (a surface mesh) is one line naming it."""
     import os
 
@@ -183,17 +204,26 @@ def read_volume_mesh(path: str, order: int = 1) -> VolumeMesh:
     where[faces] = np.arange(faces.size)
     regions = {}
     for name, facets in (m.boundaries or {}).items():
+        if name.startswith("gmsh:"):  # meshio's own sets, not physical groups
+            continue
         idx = where[np.asarray(facets)]
         regions[name] = idx[idx >= 0]
-    return VolumeMesh(m.p.T, m.t.T, kinds[type(m).__name__], regions, order=order, source=path)
+    volumes = {name: np.asarray(cells) for name, cells in (m.subdomains or {}).items()
+               if not name.startswith("gmsh:")}
+    return VolumeMesh(m.p.T, m.t.T, kinds[type(m).__name__], regions, volumes=volumes,
+                      order=order, source=path)
 
 
 def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] = (1.0, 1.0, 1.0),
-               divisions: int | Sequence[int] = 4, cell_type: str = "hex8", order: int = 1
+               divisions: int | Sequence[int] = 4, cell_type: str = "hex8", order: int = 1,
+               *, coordinates: Sequence | None = None, volumes: Mapping | None = None
                ) -> VolumeMesh:
     """A structured mesh of the box ``lower`` <= x <= ``upper`` (hexahedra,
     or each cut into tetrahedra), boundary regions ``xmin`` .. ``zmax`` as
-    for :func:`~bemcontact.mesh.box`."""
+    for :func:`~bemcontact.mesh.box`.  ``coordinates``: instead of uniform
+    divisions, the planes of the lattice along x, y and z (three increasing
+    arrays from lower to upper; ``None`` entries stay uniform);
+    ``volumes``: volume regions as for :class:`VolumeMesh`."""
     lo = np.asarray(lower, dtype=float)
     hi = np.asarray(upper, dtype=float)
     div = np.broadcast_to(np.asarray(divisions, dtype=int), (3,))
@@ -202,13 +232,22 @@ def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] 
                           f"{upper}, {divisions}")
     skfem = load_skfem()
     axes = [np.linspace(lo[i], hi[i], div[i] + 1) for i in range(3)]
+    for i, c in enumerate(coordinates or (None,) * 3):
+        if c is not None:
+            c = np.asarray(c, dtype=float)
+            if (c.ndim != 1 or c.size < 2 or not np.isclose(c[0], lo[i]) or not np.isclose(c[-1], hi[i])
+                    or not (np.diff(c) > 0).all()):
+                raise ConfigError(f"box_volume: coordinates[{i}] must increase from {lo[i]:g} to "
+                                  f"{hi[i]:g}, got {c}")
+            axes[i] = c
     m = getattr(skfem, CELL_TYPES.get(cell_type, ("MeshHex",))[0]).init_tensor(*axes)
     tol = 1e-9 * float(np.max(hi - lo))
     regions = {}
     for a in range(3):
         for side, ref in (("min", lo[a]), ("max", hi[a])):
             regions[f"{'xyz'[a]}{side}"] = (lambda c, a=a, ref=ref: np.abs(c[:, a] - ref) <= tol)
-    return VolumeMesh(m.p.T, m.t.T, cell_type, regions, order=order, source="box_volume")
+    return VolumeMesh(m.p.T, m.t.T, cell_type, regions, volumes=volumes, order=order,
+                      source="box_volume")
 
 
 __all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem", "read_volume_mesh"]

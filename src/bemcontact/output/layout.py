@@ -4,7 +4,8 @@
 
 Two bodies and one contact pair (the result's ``pairs`` holds at most one):
 ``<body>.vtu``, ``<body>_interface.vtu``/``.csv``, ``frame.vtu``/``.csv``,
-``frame_tractions.png``, ``frame_profile.png``.
+``frame_tractions.png``, ``frame_profile.png``; a body meshed in volume
+(a finite-element body) also ``<body>_volume.vtu``.
 
 An assembly (several pairs): every body's surface is ``<body>.vtu`` as
 above; everything of a pair is named by the pair's *stem* ``<b1>+<b2>``
@@ -63,11 +64,13 @@ class PairFiles:
 
 @dataclass(frozen=True)
 class Layout:
-    """Every file stem of a run: ``bodies`` (one per body, ``<body>``) and
-    ``pairs`` (:class:`PairFiles`, in the problem's order)."""
+    """Every file stem of a run: ``bodies`` (one per body, ``<body>``),
+    ``pairs`` (:class:`PairFiles`, in the problem's order) and ``volumes``
+    (``<body>_volume``, one per body meshed in volume)."""
 
     bodies: tuple[str, ...]
     pairs: tuple[PairFiles, ...]
+    volumes: tuple[str, ...] = ()
 
     @property
     def assembly(self) -> bool:
@@ -79,8 +82,9 @@ class Layout:
         bodies) both interfaces and the frame, or (assembly) per pair its
         interfaces and frame."""
         if not self.assembly:
-            return [*self.bodies, *self.pairs[0].interfaces, "frame"]
-        return [*self.bodies, *(s for p in self.pairs for s in (*p.interfaces, p.frame))]
+            return [*self.bodies, *self.volumes, *self.pairs[0].interfaces, "frame"]
+        return [*self.bodies, *self.volumes,
+                *(s for p in self.pairs for s in (*p.interfaces, p.frame))]
 
     def csv(self) -> list[str]:
         """The CSV stems: (per pair) the interfaces, then the frame."""
@@ -110,7 +114,7 @@ def pair_stems(pairs: Sequence[tuple[Sequence[str], Sequence[str]]]) -> list[str
 
 def layout(
     names: Sequence[str], pairs: Sequence[tuple[Sequence[str], Sequence[str]]] = (),
-    *, where: str = "write_results",
+    *, where: str = "write_results", volumes: Sequence[str] = (),
 ) -> Layout:
     """The file stems of a run of bodies ``names`` and contact ``pairs``
     ((body 1, body 2), (surface 1, surface 2)) each; at most one pair: the
@@ -118,7 +122,8 @@ def layout(
     body name cannot name a file, the names clash (compared ignoring case)
     or a file name (``steps/`` ones of up to 999 load steps included) would
     be longer than :data:`NAME_MAX` bytes.  A problem file's reader may call
-    it before solving, with the pairs' bodies and surfaces."""
+    it before solving, with the pairs' bodies and surfaces.  ``volumes``:
+    the bodies meshed in volume (their ``<body>_volume`` files)."""
     names = list(names)
     for n in names:
         if not isinstance(n, str) or not SAFE_NAME.match(n):
@@ -129,13 +134,13 @@ def layout(
     if len(pairs) <= 1:  # in the bodies' order
         sides = [n for n in names if not pairs or n in pairs[0][0]]
         out = Layout(tuple(names), (PairFiles("", "frame", tuple(
-            f"{n}_interface" for n in sides), ""),))
+            f"{n}_interface" for n in sides), ""),), _volumes(names, volumes))
     else:
         files = []
         for stem, (bodies, _) in zip(pair_stems(pairs), pairs):
             files.append(PairFiles(stem, f"{stem}_frame",
                                    tuple(f"{stem}_{b}_interface" for b in bodies), f"{stem}_"))
-        out = Layout(tuple(names), tuple(files))
+        out = Layout(tuple(names), tuple(files), _volumes(names, volumes))
     stems = out.series()
     folded = [s.casefold() for s in stems]
     clash = sorted({s for s, f in zip(stems, folded) if folded.count(f) > 1})
@@ -149,9 +154,16 @@ def layout(
     return out
 
 
+def _volumes(names: Sequence[str], volumes: Sequence[str]) -> tuple[str, ...]:
+    return tuple(f"{n}_volume" for n in names if n in set(volumes))
+
+
 def result_layout(result) -> Layout:
-    """The :class:`Layout` of a :class:`~bemcontact.contact.results.ContactResult`."""
-    return layout(result.names, [(p.names, p.surfaces) for p in getattr(result, "pairs", [])])
+    """The :class:`Layout` of a :class:`~bemcontact.contact.results.ContactResult`
+    (a body whose model gives ``volume_fields`` has a volume file)."""
+    models = getattr(result, "models", {})
+    return layout(result.names, [(p.names, p.surfaces) for p in getattr(result, "pairs", [])],
+                  volumes=[n for n in result.names if hasattr(models.get(n), "volume_fields")])
 
 
 def check_files(files: Sequence[str], steps: int = 0, *, where: str = "write_results") -> None:

@@ -239,6 +239,10 @@ def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str
     stress = _surface_stresses(result)
     for sol, name, n in zip(result.bodies, result.names, files.bodies):
         _write_body_vtu(directory / f"{n}{suffix}.vtu", sol, stress.get(name))
+        if f"{n}_volume" in files.volumes:
+            points, cells, point_data, cell_data = result.models[name].volume_fields(sol)
+            write_vtu(directory / f"{n}_volume{suffix}.vtu", points, cells, point_data,
+                      cell_data)
     if not files.assembly:
         for sol, iface in zip(_solutions(result, result.interfaces), result.interfaces):
             _write_interface_vtu(directory / f"{iface.body}_interface{suffix}.vtu", sol, iface,
