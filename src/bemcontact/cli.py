@@ -290,10 +290,13 @@ def _describe(problem) -> str:
         mesh = body.mesh
         n = d.n_points
         mat = body.material
-        lines.append(
-            f"  body {body.name}: {mesh.n_elements} {mesh.element_type} elements, {n} functional "
-            f"nodes ({3 * n} unknowns), E = {mat.youngs_modulus:g}, nu = {mat.poisson_ratio:g}"
-        )
+        if hasattr(body, "describe"):  # a finite-element body
+            lines.append(f"  body {body.name}: {body.describe()}")
+        else:
+            lines.append(
+                f"  body {body.name}: {mesh.n_elements} {mesh.element_type} elements, {n} "
+                f"functional nodes ({3 * n} unknowns), E = {mat.youngs_modulus:g}, "
+                f"nu = {mat.poisson_ratio:g}")
         counts = np.bincount(d.region, minlength=len(mesh.region_names))
         contact = {}
         for p, side in fs.pairs_of(a):

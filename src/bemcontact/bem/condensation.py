@@ -6,6 +6,7 @@ and recovering its own fields from given contact tractions."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
@@ -57,6 +58,17 @@ class CondensedBody:
     timings: dict
     solver: dict = field(default_factory=dict)  # linear solver used, sizes and residuals
     modes: Any = None  # TractionModes, or None: unit tractions per contact dof
+
+    def recombined(self, body, coef: np.ndarray, values: np.ndarray, controls,
+                   forces: np.ndarray) -> CondensedBody:
+        """This condensation for other loads: the load fields ``values`` =
+        the condensed ones times ``coef`` (each new load a combination of
+        the condensed), their ``controls`` and platen ``forces``; nothing
+        solved again."""
+        return dataclasses.replace(
+            self, body=body, values=values, x0=self.x0 @ coef,
+            known_modal_force=self.known_modal_force @ coef, controls=controls, forces=forces,
+            timings={"assembly": 0.0, "condensation": 0.0})
 
     def tractions(self, c: np.ndarray) -> np.ndarray:
         """Contact tractions (3 n_c,) of the mode amplitudes ``c``."""

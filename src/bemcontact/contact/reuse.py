@@ -174,11 +174,7 @@ class Condensation:
             controls = body.controls(body_states[0])
             forces = np.array([[c.force for c in body.controls(st)] for st in body_states])
             forces = forces.reshape(len(body_states), len(controls)).T
-            out.append(dataclasses.replace(
-                cb, body=body, values=values, x0=cb.x0 @ coef,
-                known_modal_force=cb.known_modal_force @ coef, controls=controls,
-                forces=forces, timings={"assembly": 0.0, "condensation": 0.0},
-            ))
+            out.append(cb.recombined(body, coef, values, controls, forces))
         return tuple(out)
 
 

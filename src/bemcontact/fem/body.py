@@ -101,6 +101,19 @@ class FiniteElementBody:
     def n_dofs(self) -> int:
         return 3 * self.volume.n_nodes
 
+    def describe(self) -> str:
+        """One line: the cells, elements, nodes and dofs, the materials."""
+        v = self.volume
+        kind = {("tet4", 1): "tet4", ("tet4", 2): "tet10", ("hex8", 1): "hex8",
+                ("hex8", 2): "hex27"}[v.cell_type, v.order]
+        mats = []
+        for r, m in self.materials.items():
+            what = (f"E = {m.youngs_modulus:g}, nu = {m.poisson_ratio:g}"
+                    if hasattr(m, "youngs_modulus") else "anisotropic")
+            mats.append(what if len(self.materials) == 1 else f"{r}: {what}")
+        return (f"finite elements, {v.skfem.t.shape[1]:,} {kind} cells, {v.n_nodes:,} nodes "
+                f"({self.n_dofs:,} dofs), {'; '.join(mats)}")
+
     def stiffness(self):
         """The stiffness matrix (3n, 3n), scipy CSR, dof 3i + c component c
         of volume node i.  Assembled per volume region from the nine scalar

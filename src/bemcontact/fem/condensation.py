@@ -89,6 +89,22 @@ class FiniteElementFlexibility:
                 CY[:, k_] = 0.0
         return CY
 
+    def recombined(self, body, coef: np.ndarray, values: np.ndarray, controls,
+                   forces: np.ndarray) -> FiniteElementFlexibility:
+        """This condensation for other loads (as
+        :meth:`~bemcontact.bem.condensation.CondensedBody.recombined`): the
+        load responses, forces and held displacements combined by ``coef``."""
+        S = self._S
+        new = FiniteElementFlexibility(**self.__dict__)
+        new.body, new.values, new.controls, new.forces = body, values, controls, forces
+        new._u = np.hstack([self._u[:, :S] @ coef, self._u[:, S:]])
+        new._R = np.hstack([self._R[:, :S] @ coef, self._R[:, S:]])
+        new.f_states, new.g_states = self.f_states @ coef, self.g_states @ coef
+        new.known_modal_force = self.known_modal_force @ coef
+        new._S = coef.shape[1]
+        new.timings = {"assembly": 0.0, "condensation": 0.0}
+        return new
+
     def control_resultants(self, ell: np.ndarray) -> np.ndarray:
         return self._R[:, : self._S] @ ell
 

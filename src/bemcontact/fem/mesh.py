@@ -179,6 +179,15 @@ def _claim(centroids: np.ndarray, choices: Mapping | None, rest: str, source: st
     return claimed, tuple(names)
 
 
+def solid_volume(solid, order: int = 1) -> VolumeMesh:
+    """The :class:`VolumeMesh` of a gmsh-meshed solid
+    (:class:`~bemcontact.mesh.mesher.SolidMesh`: the makers of
+    :mod:`bemcontact.mesh.shapes` with ``solid=True``), ``order`` 1 or 2 on
+    its tetrahedra."""
+    return VolumeMesh(solid.nodes, solid.cells, "tet4", solid.regions, volumes=solid.volumes,
+                      order=order, source=solid.source)
+
+
 def read_volume_mesh(path: str, order: int = 1) -> VolumeMesh:
     """A volume mesh from any file meshio reads (gmsh ``.msh`` with named
     physical groups: its surface groups become the boundary regions, its
@@ -250,4 +259,5 @@ def box_volume(lower: Sequence[float] = (0.0, 0.0, 0.0), upper: Sequence[float] 
                       source="box_volume")
 
 
-__all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem", "read_volume_mesh"]
+__all__ = ["CELL_TYPES", "VolumeMesh", "box_volume", "load_skfem", "read_volume_mesh",
+           "solid_volume"]

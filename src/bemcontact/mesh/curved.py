@@ -22,8 +22,8 @@ from ..errors import ConfigError
 from .element import REVERSED
 from .mesher import (
     around,
-    check_axis, check_grading, check_number, check_point, expect_regions, grading_ramp,
-    mesh_with_gmsh,
+    SolidMesh, check_axis, check_grading, check_number, check_point, expect_regions,
+    grading_ramp, mesh_with_gmsh, solid_with_gmsh, the_rest,
 )
 from .shapes import spherical_cap
 from .surface import SurfaceMesh
@@ -210,7 +210,8 @@ def ball(
     growth: float = 0.3,
     order: int = 1,
     size_profile=None,
-) -> SurfaceMesh:
+    solid: bool = False,
+) -> SurfaceMesh | SolidMesh:
     """A solid ball of radius ``radius`` whose lowest point is ``lowest``,
     graded toward its lowest and highest points (the poles, where two
     counter-bodies above and below touch it): the lower hemisphere of
@@ -221,7 +222,9 @@ def ball(
     Regions: ``bottom`` and ``top`` (the two caps, the contact surfaces) and
     ``band``, the elements within ``band`` R of the equator plane (0 < band
     < 0.8; where a cage or a support holds the ball).  Grading arguments as
-    for :func:`~bemcontact.mesh.shapes.spherical_cap`."""
+    for :func:`~bemcontact.mesh.shapes.spherical_cap`.  ``solid``: the ball
+    meshed with tetrahedra graded toward both poles (as
+    :mod:`~bemcontact.mesh.shapes` says; not mirror symmetric)."""
     name = "ball"
     R = check_number(name, "radius", radius)
     if not (isinstance(band, (int, float)) and 0 < band < 0.8):
@@ -229,6 +232,21 @@ def ball(
     lo = check_point(name, "lowest", lowest)
     grading = ({"fine_radius": fine_radius} if size_profile is None
                else {"size_profile": size_profile})
+    zc = lo[2] + R  # the equator plane
+    if solid:
+        fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
+        ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+        low, high = around(ramp, lo), around(ramp, (lo[0], lo[1], lo[2] + 2 * R))
+
+        def build(gmsh):
+            vol = gmsh.model.occ.addSphere(lo[0], lo[1], zc, R)
+            gmsh.model.occ.synchronize()
+            gmsh.model.addPhysicalGroup(3, [vol], name="body")
+
+        return solid_with_gmsh(build, (fine, coarse), name,
+                               lambda x, y, z: min(low(x, y, z), high(x, y, z)), {
+                                   "band": lambda c: np.abs(c[:, 2] - zc) < band * R,
+                                   "bottom": lambda c: c[:, 2] < zc, "top": the_rest})
     cap = spherical_cap(R, R, apex=lo, axis=1, fine_size=fine_size, coarse_size=coarse_size,
                         order=order, growth=growth, **grading)
     curved = cap.region("contact")
@@ -237,7 +255,6 @@ def ball(
     index[used] = np.arange(used.size)
     X = cap.nodes[used]
     E = index[cap.elements[curved]]
-    zc = lo[2] + R  # the equator plane
     # the upper half: reflected nodes, the equator's shared
     on_equator = np.abs(X[:, 2] - zc) <= 1e-9 * R
     new = np.flatnonzero(~on_equator)

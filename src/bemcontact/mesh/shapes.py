@@ -16,10 +16,13 @@ from __future__ import annotations
 import math
 
 from ..errors import ConfigError
+import numpy as np
+
 from .mesher import (  # noqa: F401  (load_gmsh, GMSH_INSTALL, element_estimate: re-exported)
     around,
-    GMSH_INSTALL, check_axis, check_grading, check_number, check_point, element_estimate,
-    expect_regions, grading_ramp, load_gmsh, mesh_with_gmsh, size_ramp,
+    GMSH_INSTALL, SolidMesh, check_axis, check_grading, check_number, check_point,
+    element_estimate, expect_regions, grading_ramp, load_gmsh, mesh_with_gmsh, size_ramp,
+    solid_with_gmsh, the_rest,
 )
 from .surface import SurfaceMesh
 
@@ -51,6 +54,17 @@ def hollow_sphere(inner_radius: float, outer_radius: float, mesh_size: float, or
 
 
 _BOX_REGIONS = {f"{a}{s}" for a in "xyz" for s in ("min", "max")}
+
+
+def _on_plane(axis: int, ref: float, tol: float):
+    """Chooses faces whose centroids lie on the plane x[axis] = ref."""
+    return lambda c: np.abs(c[:, axis] - ref) <= tol
+
+
+def _box_regions(lo, hi) -> dict:
+    tol = 1e-9 * max(b - a for a, b in zip(lo, hi))
+    return {f"{'xyz'[a]}{side}": _on_plane(a, ref, tol) for a in range(3)
+            for side, ref in (("min", lo[a]), ("max", hi[a]))}
 
 
 def _box_surfaces(gmsh, lo, hi) -> None:
@@ -106,7 +120,8 @@ def spherical_cap(
     growth: float = 0.3,
     order: int = 2,
     size_profile=None,
-) -> SurfaceMesh:
+    solid: bool = False,
+) -> SurfaceMesh | SolidMesh:
     """Solid spherical segment (a Hertz indenter): the part of a ball of
     radius ``radius`` within ``height`` (along z) of its point ``apex``,
     meshed with triangles graded toward the apex.
@@ -145,6 +160,8 @@ def spherical_cap(
         ``coarse_size``), growing by ``growth`` beyond the last knot.  E.g.
         a ring refined at the stick–slip boundary of Cattaneo–Mindlin.
         Give either ``fine_radius`` or ``size_profile``.
+    solid:
+        Mesh the solid with tetrahedra (module docstring; ``order`` unused).
 
     Regions: ``contact`` (the curved surface) and ``base`` (the flat disc).
     Example, a hemisphere R = 10 resting on the plane z = 0 with about ten
@@ -173,6 +190,9 @@ def spherical_cap(
         lims = (-math.pi / 2, lat) if ax > 0 else (-lat, math.pi / 2)
         vol = occ.addSphere(*center, R, -1, *lims)
         occ.synchronize()
+        if solid:
+            gmsh.model.addPhysicalGroup(3, [vol], name="body")
+            return
         faces = [t for _, t in gmsh.model.getBoundary([(3, vol)], oriented=False)]
         occ.remove([(3, vol)])
         occ.synchronize()
@@ -181,7 +201,9 @@ def spherical_cap(
         gmsh.model.addPhysicalGroup(2, flat, name="base")
 
     size = around(ramp, a)
-
+    if solid:
+        return solid_with_gmsh(build, (fine, coarse), name, size, {
+            "base": _on_plane(2, z_base, 1e-9 * R), "contact": the_rest})
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, {"contact", "base"}, name)
 
@@ -199,7 +221,9 @@ def graded_block(
     quads: bool = False,
     seed: int = 0,
     size_profile=None,
-) -> SurfaceMesh:
+    solid: bool = False,
+    layers=(),
+) -> SurfaceMesh | SolidMesh:
     """Box [lower, upper] (the flat counter-body of a contact) meshed with
     triangles, or quadrilaterals with ``quads=True``, graded toward the point
     ``focus`` on one of its faces.
@@ -209,7 +233,9 @@ def graded_block(
     1 or 2 (tri6, or quad9); ``seed`` as for :func:`gmsh_box`;
     ``size_profile`` (distance, size) knots in place of the uniform fine
     zone, as for :func:`spherical_cap` (e.g. a ring refined at a punch's
-    rim).  Regions
+    rim); ``solid``: mesh the solid with tetrahedra (module docstring), in
+    ``layers`` (thicknesses, from the face holding ``focus`` inward) bonded
+    on the substrate.  Regions
     ``xmin``, ``xmax``, ``ymin``, ``ymax``, ``zmin``, ``zmax`` as for
     :func:`gmsh_box`.  Example, the half-space under
     :func:`spherical_cap`'s example::
@@ -232,6 +258,11 @@ def graded_block(
         )
     fine, coarse, g = check_grading(name, fine_size, coarse_size, growth)
     ramp = grading_ramp(name, fine, coarse, g, fine_radius, size_profile)
+    size = around(ramp, f)
+    if solid:
+        return _layered_block(name, lo, hi, f, tol, layers, seed, (fine, coarse), size)
+    if layers:
+        raise ConfigError(f"{name}: layers need solid=True (a surface mesh has one material)")
 
     def build(gmsh):
         gmsh.option.setNumber("Mesh.RandomSeed", 1 + int(seed))
@@ -243,10 +274,40 @@ def graded_block(
             gmsh.option.setNumber("Mesh.RecombineAll", 1)
         _box_surfaces(gmsh, lo, hi)
 
-    size = around(ramp, f)
-
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, _BOX_REGIONS, name)
+
+
+def _layered_block(name, lo, hi, focus, tol, layers, seed, sizes, size) -> SolidMesh:
+    """The box as a solid, in bonded layers from the face holding ``focus``."""
+    axis = next(a for a in range(3) if min(abs(focus[a] - lo[a]), abs(focus[a] - hi[a])) <= tol)
+    top = abs(focus[axis] - hi[axis]) <= tol  # the layers start at the upper face
+    depth = [check_number(name, f"layers[{k}]", t) for k, t in enumerate(layers)]
+    if sum(depth) >= hi[axis] - lo[axis] - tol:
+        raise ConfigError(f"{name}: the layers ({sum(depth):g} thick) must be thinner than the "
+                          f"box ({hi[axis] - lo[axis]:g} along {'xyz'[axis]})")
+    cuts = np.cumsum([0.0, *depth])
+    planes = (hi[axis] - cuts) if top else (lo[axis] + cuts)
+    bounds = [*planes, lo[axis] if top else hi[axis]]
+
+    def build(gmsh):
+        gmsh.option.setNumber("Mesh.RandomSeed", 1 + int(seed))
+        occ = gmsh.model.occ
+        parts = []
+        for k in range(len(bounds) - 1):
+            a, b = sorted((bounds[k], bounds[k + 1]))
+            p, q = list(lo), list(hi)
+            p[axis], q[axis] = a, b
+            parts.append((3, occ.addBox(*p, *(y - x for x, y in zip(p, q)))))
+        if len(parts) > 1:  # one conforming mesh across the bonded interfaces
+            _, pieces = occ.fragment(parts[:1], parts[1:])
+            parts = [piece[0] for piece in pieces]
+        occ.synchronize()
+        for k, (_, tag) in enumerate(parts):
+            label = f"layer{k + 1}" if k < len(depth) else ("substrate" if depth else "body")
+            gmsh.model.addPhysicalGroup(3, [tag], name=label)
+
+    return solid_with_gmsh(build, sizes, name, size, _box_regions(lo, hi))
 
 
 def punch(
@@ -260,7 +321,8 @@ def punch(
     axis: int = 1,
     growth: float = 0.3,
     order: int = 2,
-) -> SurfaceMesh:
+    solid: bool = False,
+) -> SurfaceMesh | SolidMesh:
     """Flat-ended cylindrical punch (Boussinesq): the cylinder of radius
     ``radius`` and height ``height`` standing on the disc centred at
     ``base_center`` in the plane z = base_center[2].
@@ -271,7 +333,8 @@ def punch(
     and, along the side and onto the top, by ``growth`` per unit distance up
     to ``coarse_size``.  ``axis`` +1: the body lies above its flat end (the
     end's outward normal is -e_z); -1: below.  ``order`` 1: tri3; 2: curved
-    tri6 with midside nodes on the cylinder.
+    tri6 with midside nodes on the cylinder.  ``solid``: mesh the solid
+    with tetrahedra (module docstring).
 
     Regions: ``contact`` (the flat end), ``side``, ``top``.
     """
@@ -296,6 +359,9 @@ def punch(
         occ = gmsh.model.occ
         vol = occ.addCylinder(*c, 0.0, 0.0, ax * H, a)
         occ.synchronize()
+        if solid:
+            gmsh.model.addPhysicalGroup(3, [vol], name="body")
+            return
         faces = [t for _, t in gmsh.model.getBoundary([(3, vol)], oriented=False)]
         occ.remove([(3, vol)])
         occ.synchronize()
@@ -319,6 +385,10 @@ def punch(
         rho = math.sqrt((x - c[0]) ** 2 + (y - c[1]) ** 2)
         return min(rim(math.hypot(rho - a, w)), face(w))
 
+    if solid:
+        return solid_with_gmsh(build, (fine, coarse), name, size, {
+            "contact": _on_plane(2, c[2], 1e-9 * H), "top": _on_plane(2, z_top, 1e-9 * H),
+            "side": the_rest})
     mesh = mesh_with_gmsh(build, (fine, coarse), order, name, size)
     return expect_regions(mesh, {"contact", "side", "top"}, name)
 

@@ -118,6 +118,16 @@ class Checker:
         if key.type == "strings":
             self.array(where, value, key.length)
             return [self.string(f"{where}[{k}]", v) for k, v in enumerate(value)]
+        if key.type == "numbers":
+            if not isinstance(value, list):
+                self.fail(where, f"must be an array of numbers, not {a_type(value)}", value)
+            return [self.number(f"{where}[{k}]", v, lo=key.lo, lo_open=key.lo_open)
+                    for k, v in enumerate(value)]
+        if key.type == "matrix":
+            n = key.length
+            return [[self.number(f"{where}[{i}][{j}]", v)
+                     for j, v in enumerate(self.array(f"{where}[{i}]", row, n))]
+                    for i, row in enumerate(self.array(where, value, n))]
         if key.type in ("number-or-vector", "integer-or-vector", "number-or-pair",
                         "integer-or-pair"):
             integer = key.type.startswith("integer")

@@ -3,11 +3,12 @@
 already resolve the contact (at least :data:`RESOLVED` elements per contact
 half-width, found by the grid's sizing pass: the problem is solved as
 meshed), else the grid where it applies (its applicability checks:
-:func:`~bemcontact.multiscale.pair.applicability`), else the full path; the
-choice said in one line."""
+:func:`~bemcontact.multiscale.pair.applicability`), else the full path (and
+always for a finite-element body); the choice said in one line."""
 
 from __future__ import annotations
 
+from ..bem import ElasticBody
 from ..contact import LoadStep, SolverOptions
 from ..errors import ConfigError, ConvergenceError
 from ..multiscale.pair import GridOptions, applicability, solve_on_grid
@@ -22,6 +23,10 @@ def on_grid(problem, steps, method: str, options: SolverOptions):
     ``method`` is "auto" and the grid does not apply; the line that says
     which path solved it and why) for the two-body ``problem`` (a
     :class:`~bemcontact.contact.ContactProblem`) and its load ``steps``."""
+    fem = [b.name for b in problem.bodies if not isinstance(b, ElasticBody)]
+    if fem:  # the reader refuses "multiscale" for them
+        return None, (f"contact.method = \"auto\": the full path ({fem[0]} is a finite-element "
+                      "body; the contact grid takes BEM bodies)")
     steps = steps or (LoadStep(increments=options.load_steps),)
     grid = GridOptions(grid_size=problem.pairs[0].grid_size,
                        resolved=RESOLVED if method == "auto" else None)

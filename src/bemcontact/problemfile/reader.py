@@ -50,12 +50,12 @@ from typing import Any
 
 import numpy as np
 
-from ..bem import Displacement, ElasticBody, Force, LinearElastic, Pressure, Traction
+from ..bem import Displacement, ElasticBody, Force, Pressure, Traction
 from ..contact import ContactPair, ContactProblem, ContactResult, LoadStep, SolverOptions
 from ..errors import BemcontactError, ConfigError, OptionalDependencyWarning
-from ..inputs import MAX_MESH_BYTES, MAX_PROBLEM_BYTES, check_regular_file
+from ..inputs import MAX_PROBLEM_BYTES, check_regular_file
 from ..linalg import HMatrixOptions, LinearSolverOptions
-from ..mesh import SurfaceMesh, box, read_mesh
+from ..mesh import SurfaceMesh
 from ..output.write import (
     FIGURES_SKIPPED,
     PLOT_INSTALL,
@@ -66,8 +66,9 @@ from ..output.write import (
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
 from .method import on_grid
+from .bodies import read_material, read_materials, read_mesh_table, surface_of
 from .pairs import read_pairs
-from .sizes import check_body_size, check_generated_size
+from .sizes import check_body_size
 from .stresses import stress_requests
 from .rolling import step_rolling
 
@@ -245,14 +246,6 @@ def load_problem(path: str | os.PathLike, *, check_overlap: bool = True) -> Prob
     return problem
 
 
-def _sha256(path: pathlib.Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for block in iter(lambda: f.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
-
-
 class _Reader(Checker):
     """Reads one file's sections into bodies, a pair, options and steps."""
 
@@ -279,14 +272,22 @@ class _Reader(Checker):
             self.fail("body", f"at least two [[body]] sections are needed, not {len(raw_bodies)}",
                       [b.get("name") for b in raw_bodies])
         names = [self.body_name(i, b) for i, b in enumerate(raw_bodies)]
-        self.distinct(names)
-        meshes = [self.mesh(f"body[{i}].mesh", b["mesh"]) for i, b in enumerate(raw_bodies)]
+        fem = [self.value(f"body[{i}].model", b.get("model", "bem"), schema.BODY.key("model"))
+               == "fem" for i, b in enumerate(raw_bodies)]
+        self.distinct(names, fem)
+        given = [read_mesh_table(self, f"body[{i}].mesh", b["mesh"], fem[i], self.hashes)
+                 for i, b in enumerate(raw_bodies)]
+        meshes = [surface_of(m) for m in given]
         for i, b in enumerate(raw_bodies):
-            check_body_size(self, f"body[{i}].mesh", meshes[i], b["mesh"])
-        materials = [
-            self.material(f"body[{i}].material", b["material"]) for i, b in enumerate(raw_bodies)
-        ]
+            if not fem[i]:
+                check_body_size(self, f"body[{i}].mesh", meshes[i], b["mesh"])
+        materials = [self.material(i, b, given[i], fem[i]) for i, b in enumerate(raw_bodies)]
         specs = read_pairs(self, content["contact"], names, meshes)
+        for sp in specs:
+            if sp.pair.method == "multiscale" and any(fem[i] for i in sp.order):
+                self.fail(f"{sp.where}.method", "the contact grid takes BEM bodies; a "
+                          "finite-element body is solved on the full path", "multiscale",
+                          'use method = "full" or "auto"')
         output = self.output(content.get("output", {}), names, meshes)
         # each body's contact surfaces, with the field naming each
         surfaces: list[dict[str, str]] = [{} for _ in names]
@@ -302,7 +303,12 @@ class _Reader(Checker):
             )
             where = f"body[{i}].mesh"
             try:
-                bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
+                if fem[i]:
+                    from ..fem import FiniteElementBody
+
+                    bodies.append(FiniteElementBody(given[i], materials[i], bcs, name=names[i]))
+                else:
+                    bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
             except BemcontactError as exc:  # the closed/oriented surface check
                 self.wrap(where, exc, b["mesh"])
         if len(specs) == 1 and len(bodies) == 2:  # body 1 of the pair first
@@ -416,108 +422,16 @@ class _Reader(Checker):
                       "the output files)", name)
         return name
 
-    def mesh(self, where: str, value: Any) -> SurfaceMesh:
-        t = self.table(where, value, schema.MESH)
-        given = [k for k in schema.MESH_SOURCES if k in t]
-        if len(given) != 1:
-            self.fail(
-                where, "give exactly one of " + ", ".join(schema.MESH_SOURCES)
-                + (f" (given: {', '.join(given)})" if given else ""), value,
-            )
-        source = given[0]
-        if "element_type" in t and source != "file":
-            self.fail(f"{where}.element_type", f"belongs inside {source} = {{...}} for a "
-                      "generated mesh" if source == "box" else "applies only to mesh files",
-                      t["element_type"])
-        if source == "box":
-            return self.box(f"{where}.box", t["box"])
-        if source != "file":
-            return self.generated(f"{where}.{source}", source, t[source])
-        fwhere = f"{where}.file"
-        name = self.string(fwhere, t["file"])
-        etype = None
-        if "element_type" in t:
-            etype = self.value(f"{where}.element_type", t["element_type"],
-                               schema.MESH.key("element_type"))
-        full = self.base / name
-        if full.is_dir():
-            self.fail(fwhere, f"is a directory ({full}), not a mesh file", name)
-        if not full.exists():
-            self.fail(fwhere, f"no such mesh file ({full})", name,
-                      "mesh files are relative to the problem file's directory")
-        try:
-            check_regular_file(full, "mesh file", MAX_MESH_BYTES)
-        except ConfigError as exc:
-            self.fail(fwhere, one_line(str(exc)).removeprefix(f"{full}: "), name)
-        try:
-            mesh = read_mesh(full, etype)
-            self.hashes[name] = _sha256(full)
-            return mesh
-        except BemcontactError as exc:
-            text = one_line(str(exc))
-            if text.startswith(f"{full}: "):
-                text = text[len(f"{full}: ") :]
-            self.fail(fwhere, f"cannot use the mesh file: {text.rstrip('.')}", name)
-
-    def box(self, where: str, value: Any) -> SurfaceMesh:
-        t = self.table(where, value, schema.BOX)
-        f = self.fields(where, t, schema.BOX)
-        lo, hi = f["lower"], f["upper"]
-        for a in range(3):
-            if hi[a] <= lo[a]:
-                self.fail(
-                    f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}", t["upper"][a]
-                )
-        try:
-            return box(lo, hi, f["divisions"], f["element_type"], f["grading"])
-        except BemcontactError as exc:
-            self.wrap(where, exc, value)
-
-    def generated(self, where: str, source: str, value: Any) -> SurfaceMesh:
-        """``cap``, ``punch``, ``graded_box`` or ``ball``: a gmsh-generated mesh."""
-        from ..mesh import shapes as geometry
-
-        key = schema.MESH.key(source)
-        t = self.table(where, value, key)
-        f = self.fields(where, t, key)
-        if f["coarse_size"] < f["fine_size"]:
-            self.fail(f"{where}.coarse_size", f"must be >= fine_size = {f['fine_size']:g}",
-                      t["coarse_size"])
-        check_generated_size(self, where, source, f, t)
-        if source == "cap":
-            if not f["height"] < 2 * f["radius"]:
-                self.fail(f"{where}.height", f"must be below 2 * radius = {2 * f['radius']:g}",
-                          t["height"], "height = radius is a hemisphere")
-            make, args = geometry.spherical_cap, (f.pop("radius"), f.pop("height"))
-        elif source == "punch":
-            make, args = geometry.punch, (f.pop("radius"), f.pop("height"))
-        elif source == "ball":
-            from ..mesh import curved
-
-            make, args = curved.ball, (f.pop("radius"),)
-        else:
-            lo, hi = f.pop("lower"), f.pop("upper")
-            for a in range(3):
-                if hi[a] <= lo[a]:
-                    self.fail(f"{where}.upper[{a}]", f"must exceed lower[{a}] = {lo[a]:g}",
-                              t["upper"][a])
-            make, args = geometry.graded_block, (lo, hi, f.pop("focus"))
-        try:
-            geometry.load_gmsh()
-        except ConfigError as exc:  # one line without the table's echo
-            raise ConfigError(one_line(f"{self.src}: {where}: {exc}")) from None
-        try:
-            return make(*args, **f)
-        except BemcontactError as exc:
-            self.wrap(where, exc, value)
-
-    def material(self, where: str, value: Any) -> LinearElastic:
-        t = self.table(where, value, schema.MATERIAL)
-        f = self.fields(where, t, schema.MATERIAL)
-        try:
-            return LinearElastic(**f)
-        except BemcontactError as exc:  # pragma: no cover - the ranges are checked above
-            self.wrap(where, exc, value)
+    def material(self, i: int, b: dict, mesh, fem: bool):
+        where = f"body[{i}]"
+        if fem:
+            return read_materials(self, where, b, mesh)
+        if "materials" in b:
+            self.fail(f"{where}.materials", "needs a finite-element body (a BEM body has one "
+                      "material)", b["materials"], 'add model = "fem", or give material')
+        if "material" not in b:
+            self.fail(f"{where}.material", "missing required key", b, "add material = ...")
+        return read_material(self, f"{where}.material", b["material"], False)
 
     def boundary_conditions(
         self, where: str, value: Any, mesh: SurfaceMesh, contact: Mapping[str, str]
@@ -576,9 +490,10 @@ class _Reader(Checker):
             items.append(kinds[key](v))
         return items
 
-    def distinct(self, names: list[str]) -> None:
+    def distinct(self, names: list[str], fem: list[bool]) -> None:
         """Body names unique (compared as a case-insensitive file system
-        would: they name output files) and not another body's output file."""
+        would: they name output files) and not another body's output file
+        (``<name>_interface``; a finite-element body's ``<name>_volume``)."""
         folded = [n.casefold() for n in names]
         for i, f in enumerate(folded):
             for j in range(i):
@@ -589,7 +504,7 @@ class _Reader(Checker):
                               f"duplicate body name (body[{j}] has it too)", names[i],
                               "give each body its own name")
             for j, g in enumerate(folded):
-                if j != i and f == f"{g}_interface":
+                if j != i and (f == f"{g}_interface" or (fem[j] and f == f"{g}_volume")):
                     self.fail(f"body[{i}].name", f"clashes with the output files of body "
                               f"{names[j]!r} ({names[i]}.vtu)", names[i], "choose another name")
 

@@ -15,7 +15,8 @@ that the page is up to date.
 Types (:attr:`Key.type`):
 
 ``string``, ``boolean``, ``number`` (int or float, finite), ``integer``,
-``vector`` (3 numbers), ``components`` (3 entries, each a number or
+``vector`` (3 numbers), ``numbers`` (an array of numbers of any length),
+``matrix`` (:attr:`Key.length` rows of as many numbers), ``components`` (3 entries, each a number or
 ``"free"``), ``number-or-vector`` and ``integer-or-vector`` (one value for all
 three directions or 3 values), ``number-or-pair`` and ``integer-or-pair`` (one
 value for both in-plane directions or 2 values), ``strings`` (an array of strings of fixed
@@ -33,6 +34,9 @@ from ..contact.pair import FRAME_RULES, ContactPair
 from ..contact.history import LoadStep
 from ..linalg.options import HMatrixOptions, LinearSolverOptions
 from ..mesh.element import ELEMENT_TYPES
+
+#: The volume element types of a finite-element body's mesh.
+FEM_ELEMENT_TYPES = ("tet4", "tet10", "hex8", "hex27")
 from ..output.write import OutputOptions
 from ..stresses.probes import PROBE_KEYS
 from ..settings import LARGEST, NO_DEFAULT, SMALLEST, Key, keys_of
@@ -59,7 +63,9 @@ BOX = Key(
         Key("lower", "vector", "lower corner [x, y, z] (length)", True),
         Key("upper", "vector", "upper corner (length), > lower in every component", True),
         Key("divisions", "integer-or-vector", "elements per edge, or [nx, ny, nz]", True, lo=1),
-        Key("element_type", "string", "element type", default="quad4", choices=ELEMENT_TYPES),
+        Key("element_type", "string", "element type (a finite-element body: `tet4`, `tet10`, "
+            "`hex8`, `hex27`)", default="quad4", default_text='`"quad4"` (a finite-element '
+            'body: `"hex8"`)', choices=ELEMENT_TYPES + FEM_ELEMENT_TYPES),
         Key("grading", "number-or-vector", "ratio of the last to the first element size along "
             "each direction (1: uniform)", default=1.0, lo=0, lo_open=True),
     ),
@@ -138,25 +144,38 @@ GRADED_BOX = Key(
         Key("quads", "boolean", "recombine the triangles into quadrilaterals", default=False),
         Key("seed", "integer", "perturbs gmsh's mesher (two seeds give non-matching meshes)",
             default=0, lo=0),
+        Key("layers", "numbers", "a finite-element body: thicknesses (length) of bonded "
+            "layers from the face holding focus inward, volume regions `layer1`, `layer2`, "
+            "..., then `substrate`", default=[], lo=0, lo_open=True),
         *_grading_keys(1, "1: linear elements; 2: quadratic (tri6 or quad9)"),
     ),
 )
 
 MESH = Key(
-    "mesh", "table", "the body's closed surface mesh: exactly one of `box`, `file`, `cap`, "
-    "`punch`, `graded_box`, `ball`", True,
+    "mesh", "table", "the body's closed surface mesh (a finite-element body: its volume "
+    "mesh): exactly one of `box`, `file`, `cap`, `punch`, `graded_box`, `ball`", True,
     section="body.mesh",
     notes="The surface must be closed and its normals point outward (checked while "
     "loading; `bemcontact mesh-info MESH` shows what is wrong with a mesh file). Mesh "
     "files are read by meshio: regions are the gmsh physical surface groups by name "
     "(`group<tag>` when unnamed), or `region0`, `region1`, ... for files written by "
-    "bemcontact.",
+    "bemcontact. A finite-element body (`model = \"fem\"`): `box` is a structured mesh "
+    "of hexahedra (`hex8`, `hex27`) or tetrahedra (`tet4`, `tet10`); `cap`, `punch`, "
+    "`graded_box` and `ball` are the solids meshed with tetrahedra by gmsh under the same "
+    "grading (straight-sided: a curved surface is faceted at the element size; `order` 2 "
+    "puts quadratic elements on them), with the same boundary regions; a `file` holds "
+    "tetrahedra or hexahedra (a gmsh file's physical surface groups are its boundary "
+    "regions, its physical volume groups its volume regions; without volume groups the "
+    "volume region is `body`).",
     keys=(
         BOX,
         Key("file", "string", "a mesh file any meshio reader takes, relative to the problem "
             "file's directory"),
         Key("element_type", "string", "with `file`: which element type to use when the file "
-            "holds several", choices=ELEMENT_TYPES, default_text="the file's only surface type"),
+            "holds several; a finite-element body: the elements on the file's linear cells, "
+            "`tet4`/`hex8` (linear) or `tet10`/`hex27` (quadratic)",
+            choices=ELEMENT_TYPES + FEM_ELEMENT_TYPES,
+            default_text="the file's only surface type (a finite-element body: linear)"),
         CAP,
         PUNCH,
         GRADED_BOX,
@@ -167,8 +186,35 @@ MESH = Key(
 MESH_SOURCES = ("box", "file", "cap", "punch", "graded_box", "ball")
 
 MATERIAL = Key(
-    "material", "table", "isotropic linear elastic material", True, section="body.material",
-    keys=keys_of(LinearElastic),
+    "material", "table", "the body's linear elastic material: isotropic; a finite-element "
+    "body's may be orthotropic or a full 6 × 6 stiffness", section="body.material",
+    default_text="**required** (a finite-element body: `material` or `materials`)",
+    notes="Give `youngs_modulus` and `poisson_ratio` (isotropic) or, for a finite-element "
+    "body, `youngs_moduli`, `poisson_ratios` and `shear_moduli` (orthotropic) or "
+    "`stiffness`, with the material axes `axis1` and `axis2`. Conventions: Voigt order "
+    "(11, 22, 33, 23, 13, 12) with engineering shear strains; ν_ij is the contraction along j "
+    "under a stress along i (ν_ij / E_i = ν_ji / E_j); axis 3 = axis1 × axis2 (axis2 is "
+    "made orthogonal to axis1). A stiffness that is not positive definite is refused.",
+    keys=(
+        *keys_of(LinearElastic, youngs_modulus={"required": False},
+                 poisson_ratio={"required": False}),
+        Key("youngs_moduli", "vector", "orthotropic: [E1, E2, E3] along the material axes "
+            "(stress)"),
+        Key("poisson_ratios", "vector", "orthotropic: [ν12, ν13, ν23]"),
+        Key("shear_moduli", "vector", "orthotropic: [G12, G13, G23] (stress)"),
+        Key("stiffness", "matrix", "anisotropic: the 6 × 6 stiffness in the material axes "
+            "(stress), symmetric positive definite", length=6),
+        Key("axis1", "vector", "the material's axis 1 in global coordinates", default=[1, 0, 0]),
+        Key("axis2", "vector", "the material's axis 2 in global coordinates", default=[0, 1, 0]),
+    ),
+)
+
+MATERIALS = Key(
+    "materials", "map", "a finite-element body of several materials: one `material` table "
+    "per volume region of its mesh (e.g. `layer1` and `substrate` of a graded_box with "
+    "layers), instead of `material`", default={}, section="body.materials",
+    notes="Every volume region needs a material; the regions are bonded (one mesh).",
+    entry=MATERIAL,
 )
 
 CONDITION = Key(
@@ -202,8 +248,12 @@ BODY = Key(
     keys=(
         Key("name", "string", "a letter, then letters, digits, `_`, `-`; unique; not `frame` or "
             "`summary` (it names the output files)", True),
+        Key("model", "string", "how the body is modelled: `bem` (boundary elements on its "
+            "surface mesh) or `fem` (finite elements on a volume mesh; needs the `fem` extra: "
+            "several materials, anisotropy)", default="bem", choices=("bem", "fem")),
         MESH,
         MATERIAL,
+        MATERIALS,
         BOUNDARY_CONDITIONS,
     ),
 )
@@ -380,6 +430,8 @@ def _type_text(k: Key) -> str:
         "integer-or-pair": "integer or [u, v]",
         "integer-or-vector": "integer or [x, y, z]",
         "strings": f"{k.length} strings",
+        "numbers": "array of numbers",
+        "matrix": f"{k.length} × {k.length} numbers (rows)",
         "table": "table",
         "tables": f"{k.length or 'any number of'} `[[{k.name}]]` tables",
         "map": "table of named tables",

@@ -31,6 +31,7 @@ import zipfile
 import numpy as np
 
 from .._version import __version__
+from ..bem.body import ElasticBody
 from ..bem.condensation import CondensedBody, condense
 
 #: Version of the entry format and of what the key covers; bumped when either changes.
@@ -85,6 +86,9 @@ class BodyCache:
 
     def condense(self, body, nodes, threads=None, states=None, progress=None, linear=None,
                  modes=None, *, load_fields=None) -> CondensedBody:
+        if not isinstance(body, ElasticBody):  # its own condensation, not stored
+            return body.condense(nodes, threads, states, progress, linear, modes,
+                                 load_fields=load_fields)
         states = [body.boundary_conditions] if states is None else list(states)
         if load_fields is None:
             load_fields = np.column_stack([body.boundary_data(s)[1] for s in states])

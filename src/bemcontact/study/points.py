@@ -297,13 +297,10 @@ def group_key(pf) -> str:
     dof, contact surfaces and frame settings, linear solver options)."""
     h = hashlib.sha256()
     for b in pf.bodies:
-        m = b.mesh
         known_u, _ = b.boundary_data()
-        for part in (m.nodes, m.elements, m.element_region, known_u):
-            h.update(np.ascontiguousarray(part).tobytes())
-        h.update(repr((b.name, m.element_type, m.region_names, b.material, b.quadrature,
-                       b.discretization_options,
-                       [c.dofs.tolist() for c in b.controls()])).encode())
+        h.update(b.model_key().encode())  # mesh, material, quadrature / elements
+        h.update(np.ascontiguousarray(known_u).tobytes())
+        h.update(repr((b.name, [c.dofs.tolist() for c in b.controls()])).encode())
     h.update(repr([getattr(pf.pair, f) for f in FRAME_FIELDS]).encode())
     h.update(repr(pf.options.linear).encode())
     return h.hexdigest()

@@ -65,3 +65,26 @@ def test_the_volume_file_holds_displacement_and_stress(solved, tmp_path):
     # the displacement at the vertices: uniaxial strain -p0/E along z
     u = m.point_data["displacement"]
     assert np.allclose(u[:, 2], -P0 / 1e4 * m.points[:, 2], rtol=0, atol=1e-10)
+
+
+def test_a_condensed_fem_body_is_reused_for_other_load_values():
+    """Condensed once, re-solved for twice the pressure and another friction
+    coefficient (the load responses recombined, nothing factored again):
+    the same answer as a fresh solve, to the Newton tolerance."""
+    def problem(p, mu):
+        lower = FiniteElementBody(box_volume((0, 0, 0), (2, 2, 1), (4, 4, 2), "tet4", 2),
+                                  LinearElastic(1e4, 0.3),
+                                  {"zmin": Displacement((0.0, 0.0, 0.0))}, name="lower")
+        upper = ElasticBody(box((0, 0, 1), (2, 2, 2), (5, 5, 2)), LinearElastic(3e4, 0.2),
+                            {"zmax": Pressure(p), **ROLLERS}, name="upper")
+        return ContactProblem(lower, upper, ContactPair("zmax", "zmin", mu))
+
+    opt = SolverOptions(tolerance=1e-11)
+    cond = problem(P0, 0.1).condense(opt)
+    again = problem(2 * P0, 0.3).solve(opt, condensed=cond)
+    fresh = problem(2 * P0, 0.3).solve(opt)
+    assert again.converged and again.normal_force == pytest.approx(2 * P0 * 4, rel=1e-9)
+    assert again.normal_force == pytest.approx(fresh.normal_force, rel=1e-9)
+    assert np.allclose(again.frame.pressure, fresh.frame.pressure, rtol=0, atol=1e-8 * P0)
+    assert np.allclose(again.stresses("lower", [[1, 1, 0.5]]),
+                       fresh.stresses("lower", [[1, 1, 0.5]]), rtol=0, atol=1e-8 * P0)
