@@ -12,9 +12,9 @@ BUILD_DEPS := scikit-build-core>=0.10 nanobind>=2.0
 # what the demo needs (make demo installs only these) ...
 RUN_DEPS := numpy scipy meshio threadpoolctl rich matplotlib
 # ... and what the tests need besides: gmsh (generated meshes), Dask (sweeps), scikit-fem and
-# cholespy (finite-element bodies), the docs'
+# cvxopt and pymetis (finite-element bodies), the docs'
 # builder (the API reference is generated from the docstrings: make docs, tests/test_docs.py)
-TEST_DEPS := gmsh pytest hypothesis mkdocs dask distributed scikit-fem cholespy
+TEST_DEPS := gmsh pytest hypothesis mkdocs dask distributed scikit-fem cvxopt pymetis
 DOC_DEPS := "mkdocstrings[python]>=1.0"
 
 .PHONY: all install demo test test-all test-wheel wheel bench docs clean FORCE

@@ -1,9 +1,11 @@
 """A finite-element body reduced to its contact nodes: its stiffness
-factored once (sparse Cholesky, CHOLMOD through cholespy; docs/decisions.md
-says why), its responses to the frame's traction modes, to each load state
-and to each platen translation solved in blocks, of which only the contact
-rows are kept, and its fields recovered by one more solve from given frame
-tractions (the members of
+factored once (sparse Cholesky, CHOLMOD through cvxopt, in a METIS
+nested-dissection ordering with the contact dofs last; docs/decisions.md
+says why): the factor's trailing block is the Cholesky factor of the Schur
+complement on the contact dofs, whose inverse is the body's flexibility
+there, without a solve per contact dof; its responses to each load state
+and platen translation are solved whole, and its fields recovered by one
+more solve from given frame tractions (the members of
 :class:`~bemcontact.contact.flexibility.Flexibility`).
 
 Volume dofs: ``3 i + c`` is component c of volume node i.  A trace
@@ -34,30 +36,79 @@ from ..progress import ProgressEvent
 from .fields import VolumeSolution
 from .trace import trace_mass
 
-#: columns solved at once (bounds the dense block to CHUNK x free dofs)
-CHUNK = 256
+class SchurFactor:
+    """The sparse Cholesky factor of the SPD stiffness of the solved dofs,
+    CHOLMOD's (through cvxopt), in a nested-dissection ordering of the other
+    dofs (METIS, through pymetis) with the contact dofs ``last`` (indices
+    into the matrix) ordered after all of them: the factor's trailing block
+    is then the Cholesky factor of the Schur complement on the contact dofs,
+    whose inverse is the flexibility there (:meth:`contact_inverse`), with
+    no solve per contact dof."""
 
-
-class _Cholesky:
-    """The sparse Cholesky factor of an SPD matrix (cholespy's CHOLMOD)."""
-
-    def __init__(self, A) -> None:
+    def __init__(self, A, last: np.ndarray) -> None:
         try:
-            import cholespy
+            import cvxopt
+            import cvxopt.cholmod as cholmod
+            import pymetis
         except ImportError:
             raise ConfigError(
-                'a finite-element body needs cholespy (sparse Cholesky); pip install "bemcontact[fem]"'
-            ) from None
-        C = scipy.sparse.coo_array(A)
-        self.n = A.shape[0]
-        self._s = cholespy.CholeskySolverD(self.n, C.row.astype(np.int32), C.col.astype(np.int32),
-                                           C.data.astype(float), cholespy.MatrixType.COO)
+                "a finite-element body needs cvxopt (CHOLMOD) and pymetis (METIS); "
+                'pip install "bemcontact[fem]"') from None
+        A = scipy.sparse.csr_array(A)
+        n = A.shape[0]
+        rest = np.setdiff1d(np.arange(n), last)
+        G = A[rest][:, rest].tocsr()
+        G.setdiag(0.0)
+        G.eliminate_zeros()
+        if rest.size > 1 and G.nnz:
+            order = np.asarray(pymetis.nested_dissection(
+                pymetis.CSRAdjacency(G.indptr, G.indices))[0], dtype=np.int64)
+        else:
+            order = np.arange(rest.size)
+        self.perm = np.concatenate([rest[order], np.asarray(last, dtype=np.int64)])
+        self.n, self.n_last = n, int(np.asarray(last).size)
+        low = scipy.sparse.tril(A).tocsc()
+        cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(low.indptr))
+        M = cvxopt.spmatrix(cvxopt.matrix(low.data.astype(float)),
+                            cvxopt.matrix(low.indices.astype(np.int64)),
+                            cvxopt.matrix(cols), (n, n))
+        # the given ordering exactly: no other method tried, no postordering
+        cholmod.options.update(nmethods=1, postorder=False, supernodal=2)
+        self._F = cholmod.symbolic(M, p=cvxopt.matrix(self.perm))
+        self._M, self._cvxopt, self._cholmod = M, cvxopt, cholmod
+        self._numeric()
+
+    def _numeric(self) -> None:
+        try:
+            self._cholmod.numeric(self._M, self._F)
+        except ArithmeticError:
+            raise ConfigError("the finite-element stiffness is not positive definite (a "
+                              "material or the supports leave it singular)") from None
 
     def solve(self, b: np.ndarray) -> np.ndarray:
-        b = np.ascontiguousarray(b, dtype=float)
-        x = np.zeros_like(b)
-        self._s.solve(b, x)
-        return x
+        x = self._cvxopt.matrix(np.asfortranarray(b, dtype=float))
+        self._cholmod.solve(self._F, x)
+        return np.asarray(x).reshape(b.shape)
+
+    def contact_inverse(self) -> np.ndarray:
+        """(A^-1) on the ``last`` dofs (k, k), in their given order: the
+        inverse of the Schur complement L_cc L_ccᵀ, L_cc the factor's
+        trailing block.  Reading the factor (CHOLMOD's factor_to_sparse)
+        takes its values, so the matrix is factored again after it (the
+        price of reading it through cvxopt: one more factorization)."""
+        k, off = self.n_last, self.n - self.n_last
+        L = self._cholmod.getfactor(self._F)
+        ptr, rows, vals = (np.asarray(a).ravel() for a in L.CCS)
+        del L
+        Lcc = np.zeros((k, k))
+        for j in range(k):
+            a, b = ptr[off + j], ptr[off + j + 1]
+            Lcc[rows[a:b] - off, j] = vals[a:b]
+        del ptr, rows, vals
+        # CHOLMOD moved the factor's values into L: factor again for the solves
+        self._numeric()
+        inv = scipy.linalg.solve_triangular(Lcc, np.eye(k), lower=True)
+        return inv.T @ inv
 
 
 class FiniteElementFlexibility:
@@ -229,8 +280,11 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     Kss = K[solved][:, solved]
     K_sh = K[solved][:, fixed].tocsr()
     t1 = time.perf_counter()
-    factor = _Cholesky(Kss)
     contact_vdofs = vd[dofs]
+    index = np.full(n, -1, dtype=np.int64)
+    index[np.flatnonzero(solved)] = np.arange(int(solved.sum()))
+    cs = index[contact_vdofs]  # each contact dof's solved index (-1: pinned)
+    factor = SchurFactor(Kss, cs[cs >= 0])
     Pc = scipy.sparse.csr_array((np.ones(dofs.size), (contact_vdofs, np.arange(dofs.size))),
                                 shape=(n, dofs.size))
     flex = FiniteElementFlexibility(
@@ -251,17 +305,17 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     u = flex._solve(cols_f, cols_g)
     flex._u = u
     flex._R = (Crows @ u - indicators.T @ cols_f) if controls else np.zeros((0, u.shape[1]))
-    r = modes.size
-    F = np.empty((dofs.size, r))
-    CX = np.zeros((len(controls), r))
+    # the flexibility on the contact dofs (the Schur complement's inverse;
+    # a pinned dof does not move), its responses to the modes, and by
+    # reciprocity the platens' reactions to them: C K u_m = -(Y on the
+    # contact dofs)ᵀ B_m (no contact dof is a platen's)
+    kept = np.flatnonzero(cs >= 0)
+    S_cc = np.zeros((dofs.size, dofs.size))
+    S_cc[np.ix_(kept, kept)] = factor.contact_inverse()
     B = modes.B.tocsc()
-    for s in range(0, r, CHUNK):
-        fm = (Pc @ B[:, s : s + CHUNK]).toarray()
-        um = flex._solve(fm, np.zeros_like(fm))
-        F[:, s : s + CHUNK] = um[contact_vdofs]
-        if controls:
-            CX[:, s : s + CHUNK] = Crows @ um - indicators.T @ fm
-    flex._F, flex._CX = F, CX
+    F = np.asarray((B.T @ S_cc).T)
+    flex._F = F
+    flex._CX = -np.asarray((B.T @ flex.Yc).T) if controls else np.zeros((0, modes.size))
     t2 = time.perf_counter()
     flex.timings = {"assembly": t1 - t0, "condensation": t2 - t1}
     flex.solver = {"method": "fem (sparse Cholesky)", "dofs": int(n), "pins": int(nf)}
@@ -271,4 +325,4 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     return flex
 
 
-__all__ = ["FiniteElementFlexibility", "condense"]
+__all__ = ["FiniteElementFlexibility", "SchurFactor", "condense"]

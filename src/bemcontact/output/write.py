@@ -124,7 +124,8 @@ def summary(
 ) -> dict[str, Any]:
     """The content of ``summary.json``: ``result.summary()`` (or a given dict)
     with ``version``, ``names``, ``regions`` (body -> its region names, in the
-    order of the VTU files' ``region`` index), ``problem`` and ``error`` added, non-finite
+    order of the VTU files' ``region`` index; a finite-element body's volume
+    regions under ``volume_regions``), ``problem`` and ``error`` added, non-finite
     numbers turned into ``null`` (strict JSON).  An assembly's ``pairs``
     entries get the pair's ``label`` and ``files``, the stem of its files
     (:mod:`bemcontact.output.layout`)."""
@@ -135,6 +136,10 @@ def summary(
             n: list(sol.discretization.mesh.region_names)
             for n, sol in zip(result.names, result.bodies)
         }}
+        volumes = {n: list(m.volume.volume_names) for n, m in result.models.items()
+                   if hasattr(m, "volume_fields")}
+        if volumes:  # finite-element bodies: the volume regions, as <body>_volume.vtu indexes them
+            s["volume_regions"] = volumes
         if "pairs" in s:  # an assembly: each pair's label and the stem of its files
             stems = pair_stems([(p.names, p.surfaces) for p in result.pairs])
             s["pairs"] = [{"label": p.label, "files": stem, **e}

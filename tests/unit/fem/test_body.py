@@ -25,7 +25,7 @@ from bemcontact import (
 )
 
 pytest.importorskip("skfem")
-pytest.importorskip("cholespy")
+pytest.importorskip("cvxopt")
 
 from bemcontact.fem import FiniteElementBody, box_volume  # noqa: E402
 

@@ -9,6 +9,8 @@ patch test's own 1e-8 of p0 (measured <= 1e-10).
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -19,7 +21,7 @@ from bemcontact import (
 from bemcontact.output.write import OutputOptions, write_results
 
 pytest.importorskip("skfem")
-pytest.importorskip("cholespy")
+pytest.importorskip("cvxopt")
 
 from bemcontact.fem import FiniteElementBody, box_volume  # noqa: E402
 
@@ -58,6 +60,8 @@ def test_the_volume_file_holds_displacement_and_stress(solved, tmp_path):
     files = write_results(solved, tmp_path / "out", options=OutputOptions(figures=False))
     assert tmp_path / "out" / "lower_volume.vtu" in files
     assert not (tmp_path / "out" / "upper_volume.vtu").exists()  # a BEM body has no volume
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["volume_regions"] == {"lower": ["body"]}
     m = meshio.read(tmp_path / "out" / "lower_volume.vtu")
     assert m.cells[0].type == "hexahedron" and len(m.cells[0].data) == 75
     assert np.abs(m.cell_data["stress"][0] - UNIAXIAL).max() <= 1e-8 * P0

@@ -18,7 +18,7 @@ from bemcontact.problemfile import load_problem
 from .test_reader import BASE, edit, write
 
 pytest.importorskip("skfem")
-pytest.importorskip("cholespy")
+pytest.importorskip("cvxopt")
 
 from bemcontact.fem import FiniteElementBody, box_volume  # noqa: E402
 
