@@ -165,16 +165,17 @@ class FiniteElementBody:
 
     def condensation_bytes(self, contact_nodes: int, modes: int, states: int, controls: int,
                            linear, chunk: int) -> tuple[float, float]:
-        """(peak, kept) bytes of :meth:`condense`: the Cholesky factor of
-        the stiffness, taken as 40 n^(4/3) entries for n dofs (nested
-        dissection's growth in 3D, its constant from the measured peaks:
-        0.73 GB at 27,783 dofs, 6.1 GB at 199,287; benchmarks/
-        fem_sparse_solvers.py), 1.5 of it for the workspace, a block of
-        right-hand sides and the contact responses kept."""
+        """(peak, kept) bytes of :meth:`condense`: the sparse factor and its
+        copy while the Schur complement is read from it, taken together as
+        95 n^(4/3) entries for n dofs (nested dissection's growth in 3D, the
+        constant from the measured peaks: 0.81 GB at 27,783 dofs, 8.6 GB at
+        199,287; benchmarks/fem_sparse_solvers.py), the dense flexibility on
+        the contact dofs and the responses kept."""
         n = self.n_dofs
         kept = 8.0 * 3 * contact_nodes * (modes + states + controls + 6)
-        factor = 40.0 * n ** (4.0 / 3.0)
-        return 8.0 * (1.5 * factor + 2.0 * n * 256) + kept, kept
+        factor = 95.0 * n ** (4.0 / 3.0)
+        dense = (3.0 * contact_nodes) ** 2
+        return 8.0 * (factor + 2.0 * dense + n * (states + controls)) + kept, kept
 
     def stresses(self, solution, points) -> np.ndarray:
         """Stresses (n, 6) at ``points`` (n, 3) inside this body for its

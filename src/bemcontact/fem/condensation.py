@@ -74,11 +74,13 @@ class SchurFactor:
                             cvxopt.matrix(cols), (n, n))
         # the given ordering exactly: no other method tried, no postordering
         cholmod.options.update(nmethods=1, postorder=False, supernodal=2)
-        self._F = cholmod.symbolic(M, p=cvxopt.matrix(self.perm))
         self._M, self._cvxopt, self._cholmod = M, cvxopt, cholmod
         self._numeric()
 
     def _numeric(self) -> None:
+        """Factor (supernodal: a symbolic analysis in the given ordering, then
+        the numbers)."""
+        self._F = self._cholmod.symbolic(self._M, p=self._cvxopt.matrix(self.perm))
         try:
             self._cholmod.numeric(self._M, self._F)
         except ArithmeticError:
@@ -105,7 +107,8 @@ class SchurFactor:
             a, b = ptr[off + j], ptr[off + j + 1]
             Lcc[rows[a:b] - off, j] = vals[a:b]
         del ptr, rows, vals
-        # CHOLMOD moved the factor's values into L: factor again for the solves
+        # CHOLMOD moved the factor's values into L (leaving a simplicial
+        # symbolic factor): factor again, supernodal, for the solves
         self._numeric()
         inv = scipy.linalg.solve_triangular(Lcc, np.eye(k), lower=True)
         return inv.T @ inv

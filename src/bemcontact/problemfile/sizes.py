@@ -50,14 +50,14 @@ def check_generated_size(c: Checker, where: str, source: str, f: dict, t: dict, 
     machine's memory (:func:`~bemcontact.mesh.shapes.element_estimate`;
     a cap with fine_size = 0.02 over its whole surface meshed for
     minutes); ``solid``: the solid's tetrahedra for a finite-element body
-    (its sparse factor's memory: about 40 (3n)^(4/3) entries for n nodes,
+    (its sparse factor's memory: about 95 (3n)^(4/3) entries for n nodes,
     :meth:`~bemcontact.fem.FiniteElementBody.condensation_bytes`)."""
     from ..mesh.shapes import element_estimate
 
     if solid:
         cells = _solid_estimate(source, f)
         nodes = cells * (1.4 if f["order"] == 2 else 0.2)
-        need = 8.0 * 1.5 * 40.0 * (3.0 * nodes) ** (4.0 / 3.0)
+        need = 8.0 * 95.0 * (3.0 * nodes) ** (4.0 / 3.0)
         _, avail = machine_memory()
         if need > allowed(avail):
             c.fail(f"{where}.fine_size", f"gives about {cells:.3g} tetrahedra ({nodes:.3g} "
