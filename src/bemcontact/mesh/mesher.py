@@ -78,37 +78,28 @@ def solid_with_gmsh(build, sizes: tuple[float, float], name: str,
     :func:`mesh_with_gmsh`; ``regions``: the boundary regions (see
     :class:`SolidMesh`)."""
     gmsh = load_gmsh()
-    with _interrupt_deferred() as interrupted:
-        gmsh.initialize(interruptible=False)
-        try:
-            gmsh.option.setNumber("General.Terminal", 0)
-            gmsh.model.add(name)
-            build(gmsh)
-            gmsh.model.occ.synchronize()
-            _sizes(gmsh, *sizes, size, interrupted)
-            gmsh.option.setNumber("Mesh.ElementOrder", 1)
-            gmsh.model.mesh.generate(3)
-            tags, xyz, _ = gmsh.model.mesh.getNodes()
-            index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
-            index[tags.astype(np.int64)] = np.arange(tags.size)
-            nodes = xyz.reshape(-1, 3)
-            cells, volumes = [], {}
-            count = 0
-            for dim, group in gmsh.model.getPhysicalGroups(3):
-                label = gmsh.model.getPhysicalName(dim, group)
-                mine = []
-                for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, group):
-                    etypes, _, enodes = gmsh.model.mesh.getElements(3, ent)
-                    for et, en in zip(etypes, enodes):
-                        if int(et) != 4:  # pragma: no cover - gmsh behaviour
-                            raise MeshError(f"{name}: gmsh made volume elements of type {et}")
-                        mine.append(index[en.astype(np.int64)].reshape(-1, 4))
-                block = np.vstack(mine)
-                cells.append(block)
-                volumes[label] = np.arange(count, count + len(block))
-                count += len(block)
-        finally:
-            gmsh.finalize()
+    with _interrupt_deferred() as interrupted, _model(gmsh, build, name, *sizes, size,
+                                                      interrupted, 1):
+        gmsh.model.mesh.generate(3)
+        tags, xyz, _ = gmsh.model.mesh.getNodes()
+        index = np.full(int(tags.max()) + 1, -1, dtype=np.int64)
+        index[tags.astype(np.int64)] = np.arange(tags.size)
+        nodes = xyz.reshape(-1, 3)
+        cells, volumes = [], {}
+        count = 0
+        for dim, group in gmsh.model.getPhysicalGroups(3):
+            label = gmsh.model.getPhysicalName(dim, group)
+            mine = []
+            for ent in gmsh.model.getEntitiesForPhysicalGroup(dim, group):
+                etypes, _, enodes = gmsh.model.mesh.getElements(3, ent)
+                for et, en in zip(etypes, enodes):
+                    if int(et) != 4:  # pragma: no cover - gmsh behaviour
+                        raise MeshError(f"{name}: gmsh made volume elements of type {et}")
+                    mine.append(index[en.astype(np.int64)].reshape(-1, 4))
+            block = np.vstack(mine)
+            cells.append(block)
+            volumes[label] = np.arange(count, count + len(block))
+            count += len(block)
     C = np.vstack(cells)
     used = np.unique(C)
     local = np.full(nodes.shape[0], -1, dtype=np.int64)
@@ -172,7 +163,11 @@ def _interrupt_deferred() -> Iterator[Callable[[], bool]]:
             raise KeyboardInterrupt
 
 
-def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) -> SurfaceMesh:
+@contextlib.contextmanager
+def _model(gmsh, build, name, smallest, largest, size, interrupted, order) -> Iterator[None]:
+    """gmsh initialized (not interruptible: it would take SIGINT for the
+    whole process), the model ``build(gmsh)`` made, its sizes and element
+    order set; finalized on leaving."""
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -181,6 +176,13 @@ def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) ->
         gmsh.model.occ.synchronize()
         _sizes(gmsh, smallest, largest, size, interrupted)
         gmsh.option.setNumber("Mesh.ElementOrder", order)
+        yield
+    finally:
+        gmsh.finalize()
+
+
+def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) -> SurfaceMesh:
+    with _model(gmsh, build, name, smallest, largest, size, interrupted, order):
         gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)
         gmsh.model.mesh.generate(2)
         if gmsh.option.getNumber("Mesh.RecombineAll") and _has_triangles(gmsh):
@@ -196,8 +198,6 @@ def _generate(gmsh, build, smallest, largest, order, name, size, interrupted) ->
             path = os.path.join(tmp, f"{name}.msh")
             gmsh.write(path)
             mesh = read_mesh(path)
-    finally:
-        gmsh.finalize()
     return mesh
 
 
