@@ -95,23 +95,44 @@ class SchurFactor:
     def contact_inverse(self) -> np.ndarray:
         """(A^-1) on the ``last`` dofs (k, k), in their given order: the
         inverse of the Schur complement L_cc L_ccᵀ, L_cc the factor's
-        trailing block.  Reading the factor (CHOLMOD's factor_to_sparse)
-        takes its values, so the matrix is factored again after it (the
-        price of reading it through cvxopt: one more factorization)."""
+        trailing block, formed in place (LAPACK's trtri, then lauum:
+        L_cc^-ᵀ L_cc^-1), so that the dense part of the peak is one k × k
+        array.  Reading the factor (CHOLMOD's factor_to_sparse) takes its
+        values, so the matrix is factored again after it (the price of
+        reading it through cvxopt: one more factorization)."""
         k, off = self.n_last, self.n - self.n_last
         L = self._cholmod.getfactor(self._F)
-        ptr, rows, vals = (np.asarray(a).ravel() for a in L.CCS)
+        tail = L[off:, off:]  # the trailing columns only, not a copy of all of L
         del L
-        Lcc = np.zeros((k, k))
+        ptr, rows, vals = (np.asarray(a).ravel() for a in tail.CCS)
+        del tail
+        Lcc = np.zeros((k, k), order="F")
         for j in range(k):
-            a, b = ptr[off + j], ptr[off + j + 1]
-            Lcc[rows[a:b] - off, j] = vals[a:b]
+            a, b = ptr[j], ptr[j + 1]
+            Lcc[rows[a:b], j] = vals[a:b]
         del ptr, rows, vals
         # CHOLMOD moved the factor's values into L (leaving a simplicial
         # symbolic factor): factor again, supernodal, for the solves
         self._numeric()
-        inv = scipy.linalg.solve_triangular(Lcc, np.eye(k), lower=True)
-        return inv.T @ inv
+        inv, info = scipy.linalg.lapack.dtrtri(Lcc, lower=1, overwrite_c=1)
+        if info != 0:
+            raise ConfigError("the finite-element Schur complement on the contact dofs is "
+                              "singular (a contact node the supports do not hold)")
+        out, info = scipy.linalg.lapack.dlauum(inv, lower=1, overwrite_c=1)
+        del inv, Lcc
+        return _symmetrized(out)
+
+
+def _symmetrized(a: np.ndarray, block: int = 512) -> np.ndarray:
+    """``a`` (k, k) with its upper triangle replaced by its lower one's
+    transpose, in place, a block of rows at a time."""
+    k = a.shape[0]
+    for j0 in range(0, k, block):
+        j1 = min(j0 + block, k)
+        d = a[j0:j1, j0:j1]
+        d[...] = np.tril(d) + np.tril(d, -1).T
+        a[j0:j1, j1:] = a[j1:, j0:j1].T
+    return a
 
 
 class FiniteElementFlexibility:
@@ -313,8 +334,11 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     # reciprocity the platens' reactions to them: C K u_m = -(Y on the
     # contact dofs)ᵀ B_m (no contact dof is a platen's)
     kept = np.flatnonzero(cs >= 0)
-    S_cc = np.zeros((dofs.size, dofs.size))
-    S_cc[np.ix_(kept, kept)] = factor.contact_inverse()
+    if kept.size == dofs.size:
+        S_cc = factor.contact_inverse()
+    else:  # a pinned contact dof does not move
+        S_cc = np.zeros((dofs.size, dofs.size))
+        S_cc[np.ix_(kept, kept)] = factor.contact_inverse()
     B = modes.B.tocsc()
     F = np.asarray((B.T @ S_cc).T)
     flex._F = F

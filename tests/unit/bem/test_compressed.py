@@ -63,7 +63,7 @@ def test_matvec_and_bw_match_dense_to_eps(cube, eps):
 def test_aca_blocks_meet_their_tolerance(cube):
     d, H, G = cube
     eps = 1e-4
-    for ku, M in ((None, H), (np.ones(3 * d.n_points, bool), -G)):
+    for ku, dense in ((None, H), (np.ones(3 * d.n_points, bool), -G)):
         op = CompressedSystem(d, MU, NU, ku, options=HMatrixOptions(eps=eps, leaf_size=12))
         perm = op._h.perm()
         info = op.block_info()
@@ -74,7 +74,7 @@ def test_aca_blocks_meet_their_tolerance(cube):
             assert rank <= aca_rank
             rows = (3 * perm[tb : tb + ts][:, None] + np.arange(3)).ravel()
             cols = (3 * perm[sb : sb + ss][:, None] + np.arange(3)).ravel()
-            exact = M[np.ix_(rows, cols)]
+            exact = dense[np.ix_(rows, cols)]
             errs.append(np.linalg.norm(op._h.block_matrix(i) - exact) / np.linalg.norm(exact))
         e = np.array(errs)
         assert e.size > 500

@@ -8,7 +8,6 @@ slip); transient rolling by whole upwind steps ends at the steady state."""
 from __future__ import annotations
 
 import dataclasses
-import math
 import pathlib
 
 import numpy as np
