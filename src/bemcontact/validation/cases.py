@@ -60,6 +60,14 @@ class SphereOnBlock:
             return {"fine_radius": self.fine_radius, "growth": self.growth}
         return {"size_profile": self.size_profile, "growth": self.growth}
 
+    def hemisphere(self, fine_size: float, apex_z: float = 0.0, axis: int = 1, order: int = 1):
+        """The graded hemisphere (a surface mesh) with its apex at
+        (0, 0, ``apex_z``), its base at ``axis`` * R above it."""
+        return geometry.spherical_cap(
+            self.radius, self.radius, apex=(0.0, 0.0, apex_z), axis=axis, fine_size=fine_size,
+            coarse_size=self.coarse_size, order=order, **self.grading(),
+        )
+
     @property
     def contact_modulus(self) -> float:
         return self.youngs_modulus / (2.0 * (1.0 - self.poisson_ratio**2))
@@ -98,21 +106,15 @@ def platen(approach: float, tangential_force: float = 0.0) -> list:
     ]
 
 
-def _setup(who: str, setup: SphereOnBlock | None, fine_size) -> SphereOnBlock:
+def checked_setup(who: str, setup: SphereOnBlock | None, fine_size) -> SphereOnBlock:
+    """``setup`` (default :class:`SphereOnBlock`) once ``fine_size`` fits
+    it (a :class:`ConfigError` naming ``who`` otherwise)."""
     s = setup or SphereOnBlock()
     if not (isinstance(fine_size, (int, float)) and 0 < fine_size <= s.fine_radius):
         raise ConfigError(
             f"{who}: fine_size must be in (0, fine_radius = {s.fine_radius:g}], got {fine_size!r}"
         )
     return s
-
-
-def _hemisphere(s: SphereOnBlock, fine_size: float, apex_z: float, axis: int, order: int):
-    """The graded hemisphere of ``s`` with its apex at (0, 0, apex_z)."""
-    return geometry.spherical_cap(
-        s.radius, s.radius, apex=(0.0, 0.0, apex_z), axis=axis, fine_size=fine_size,
-        coarse_size=s.coarse_size, order=order, **s.grading(),
-    )
 
 
 def sphere_on_block(
@@ -135,7 +137,7 @@ def sphere_on_block(
     With ``normal_force`` the base is pushed down by that force instead of
     by ``approach`` (force control from the first touch at the apex; the
     approach is then the platen's computed translation)."""
-    s = _setup("sphere_on_block", setup, fine_size)
+    s = checked_setup("sphere_on_block", setup, fine_size)
     if normal_force is not None and not (
         isinstance(normal_force, (int, float)) and math.isfinite(normal_force) and normal_force > 0
     ):
@@ -145,7 +147,7 @@ def sphere_on_block(
         (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=fine_size,
         coarse_size=s.coarse_size, order=order, **s.grading(),
     )
-    cap = _hemisphere(s, fine_size, 0.0, 1, order)
+    cap = s.hemisphere(fine_size, 0.0, 1, order)
     mat = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     block = ElasticBody(blk, mat, {"zmin": Fixed()}, name="block")
     # frictionless: nothing holds the sphere in x on the flat frame, so the
@@ -185,14 +187,14 @@ def two_spheres(
     ``gap + 0.6 fine_radius^2 (1/R + 1/R2)`` (the initial gap over the fine
     zone) and the contact closes under load.  Hertz with R_eff = R R2 /
     (R + R2) (R/2 for identical spheres): a = sqrt(R_eff approach)."""
-    s = _setup("two_spheres", setup, fine_size)
+    s = checked_setup("two_spheres", setup, fine_size)
     for name, v in (("gap", gap), ("approach", approach)):
         if not (isinstance(v, (int, float)) and 0 <= v < s.radius):
             raise ConfigError(f"two_spheres: {name} must be in [0, R = {s.radius:g}), got {v!r}")
     r2 = s.radius if upper_radius is None else upper_radius
     if not (isinstance(r2, (int, float)) and math.isfinite(r2) and r2 >= s.radius):
         raise ConfigError(f"two_spheres: upper_radius must be a number >= R = {s.radius:g}, got {r2!r}")
-    caps = [_hemisphere(s, fine_size, -0.5 * gap, -1, order),
+    caps = [s.hemisphere(fine_size, -0.5 * gap, -1, order),
             geometry.spherical_cap(r2, s.radius, apex=(0.0, 0.0, 0.5 * gap), axis=1,
                                    fine_size=fine_size, coarse_size=s.coarse_size, order=order,
                                    **s.grading())]
@@ -507,6 +509,7 @@ def fitted_rate(sizes, errors) -> float:
 
 __all__ = [
     "SphereOnBlock",
+    "checked_setup",
     "sphere_on_block",
     "platen",
     "tangential_steps",

@@ -22,7 +22,7 @@ import numpy as np
 from ..bem import Displacement, ElasticBody, Fixed, Force, LinearElastic
 from ..contact import ContactPair, ContactProblem, FrameResult
 from ..mesh import shapes as geometry
-from .cases import SphereOnBlock, _hemisphere, _setup
+from .cases import SphereOnBlock, checked_setup
 
 
 def sphere_on_fem_block(
@@ -33,6 +33,7 @@ def sphere_on_fem_block(
     layers=(),
     order: int = 2,
     normal_force: float | None = None,
+    sphere_material=None,
 ) -> ContactProblem:
     """:func:`.cases.sphere_on_block` (frictionless) with the block a
     finite-element body: the solid of tetrahedra of ``order`` (1 or 2),
@@ -42,12 +43,13 @@ def sphere_on_fem_block(
     or with ``layers`` (thicknesses from the top face down) a mapping
     ``{"layer1": ..., "substrate": ...}``.  ``normal_force``: push the base
     down by that force (the base held in x and y) instead of by
-    ``approach``.  The frame lies on the block, whose top face is the plane
+    ``approach``.  ``sphere_material``: the sphere's (default the setup's
+    steel).  The frame lies on the block, whose top face is the plane
     z = 0 of Hertz theory."""
     from ..fem.body import FiniteElementBody
     from ..fem.mesh import solid_volume
 
-    s = _setup("sphere_on_fem_block", setup, fine_size)
+    s = checked_setup("sphere_on_fem_block", setup, fine_size)
     w, d = s.block_half_width, s.block_depth
     solid = geometry.graded_block(
         (-w, -w, -d), (w, w, 0.0), (0.0, 0.0, 0.0), fine_size=fine_size,
@@ -56,12 +58,12 @@ def sphere_on_fem_block(
     steel = LinearElastic(s.youngs_modulus, s.poisson_ratio)
     block = FiniteElementBody(solid_volume(solid, order), block_material or steel,
                               {"zmin": Fixed()}, name="block")
-    cap = _hemisphere(s, fine_size, 0.0, 1, 1)
+    cap = s.hemisphere(fine_size)
     if normal_force is None:
         base = [Displacement((0.0, 0.0, -float(approach)))]
     else:
         base = [Displacement((0.0, 0.0, None)), Force((None, None, -float(normal_force)))]
-    sphere = ElasticBody(cap, steel, {"base": base}, name="sphere")
+    sphere = ElasticBody(cap, sphere_material or steel, {"base": base}, name="sphere")
     pair = ContactPair("zmax", "contact", 0.0, search_distance=s.search_distance,
                        frame_on="body1")
     return ContactProblem(block, sphere, pair)
