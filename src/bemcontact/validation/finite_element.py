@@ -23,6 +23,7 @@ from ..bem import Displacement, ElasticBody, Fixed, Force, LinearElastic
 from ..contact import ContactPair, ContactProblem, FrameResult
 from ..mesh import shapes as geometry
 from .cases import SphereOnBlock, checked_setup
+from .reference.layered import pressure_moments
 
 
 def sphere_on_fem_block(
@@ -89,11 +90,7 @@ def contact_ellipse(frame: FrameResult) -> Ellipse:
     b² / 5 about its axes (pressure-weighted, so the nodes at the edge,
     which open and close with the mesh, count least).  Centred at the
     pressure's centroid."""
-    p = np.maximum(frame.pressure, 0.0) * frame.weights
-    x = frame.points[:, :2]
-    c = (p @ x) / p.sum()
-    d = x - c
-    M = (d * p[:, None]).T @ d / p.sum()
+    M = pressure_moments(frame.points[:, 0], frame.points[:, 1], frame.pressure, frame.weights)
     val, vec = np.linalg.eigh(M)
     angle = math.atan2(vec[1, 1], vec[0, 1])
     if angle <= -math.pi / 2:

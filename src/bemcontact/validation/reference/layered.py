@@ -69,6 +69,11 @@ def _surface_value(modes: np.ndarray) -> float:
     return float(-(modes[1, :] @ c).real)
 
 
+def _boussinesq(E: float, nu: float) -> float:
+    """A homogeneous half-space's normal surface compliance c = 2 (1 - ν²) / E."""
+    return 2.0 * (1.0 - nu * nu) / E
+
+
 def _check(name: str, E, nu) -> tuple[float, float]:
     if not (isinstance(E, (int, float)) and math.isfinite(E) and E > 0):
         raise ConfigError(f"{name}: youngs_modulus must be a number > 0, got {E!r}")
@@ -123,15 +128,22 @@ class GridContact:
         return moment_radius(X.ravel(), Y.ravel(), self.pressure.ravel(), np.full(X.size, 1.0))
 
 
+def pressure_moments(x, y, pressure, weights) -> np.ndarray:
+    """(2, 2): ∫ d dᵀ p dA / ∫ p dA, d = (x, y) from the pressure's
+    centroid (negative pressures count as none); for Hertz's ellipse of
+    semi-axes a, b: diag(a², b²) / 5 in its axes."""
+    p = np.maximum(np.asarray(pressure, dtype=float), 0.0) * np.asarray(weights, dtype=float)
+    d = np.column_stack([np.asarray(x, dtype=float), np.asarray(y, dtype=float)])
+    d -= (p @ d) / p.sum()
+    return (d * p[:, None]).T @ d / p.sum()
+
+
 def moment_radius(x, y, pressure, weights) -> float:
     """sqrt(5/2 ∫ r² p dA / ∫ p dA) about the pressure's centroid: the
     contact radius a for Hertz's pressure (the second moment is 2 a² / 5),
     a size that weighs the contact's edge, where a mesh resolves it least,
     least."""
-    p = np.maximum(np.asarray(pressure, dtype=float), 0.0) * np.asarray(weights, dtype=float)
-    x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
-    cx, cy = (p @ x) / p.sum(), (p @ y) / p.sum()
-    return float(math.sqrt(2.5 * (p @ ((x - cx) ** 2 + (y - cy) ** 2)) / p.sum()))
+    return float(math.sqrt(2.5 * np.trace(pressure_moments(x, y, pressure, weights))))
 
 
 def sphere_on_coated_half_space(
@@ -153,10 +165,9 @@ def sphere_on_coated_half_space(
             raise ConfigError(f"{name} must be a number > 0, got {v!r}")
     if not (isinstance(thickness, (int, float)) and math.isfinite(thickness) and thickness >= 0):
         raise ConfigError(f"thickness must be a number >= 0, got {thickness!r}")
-    Es, nus = _check("sphere", *sphere)
+    sphere_c = _boussinesq(*_check("sphere", *sphere))
     layer, substrate = _check("layer", *layer), _check("substrate", *substrate)
-    sphere_c = 2.0 * (1.0 - nus * nus) / Es
-    stiffest = min(2.0 * (1.0 - m[1] ** 2) / m[0] for m in (layer, substrate))
+    stiffest = min(_boussinesq(*layer), _boussinesq(*substrate))
     # the grid from the Hertz radius with the stiffer of the two materials
     # (the contact is larger than that)
     a = (3.0 * normal_force * radius * (sphere_c + stiffest) / 8.0) ** (1.0 / 3.0)
@@ -172,8 +183,7 @@ def sphere_on_coated_half_space(
         kth = np.clip(k * thickness, kt[0], kt[-1])
         c = table(np.log(kth))
     else:
-        E, nu = _check("substrate", *substrate)
-        c = np.full(k.shape, 2.0 * (1.0 - nu * nu) / E)
+        c = np.full(k.shape, _boussinesq(*substrate))
     kernel = np.zeros(k.shape)
     kernel[k > 0] = (c[k > 0] + sphere_c) / k[k > 0]  # the mean is the approach's
 
@@ -221,4 +231,5 @@ def _polonsky_keer(displacement, gap0, total, tolerance, max_iterations=5000):
                       "iterations")
 
 
-__all__ = ["surface_compliance", "sphere_on_coated_half_space", "GridContact", "moment_radius"]
+__all__ = ["surface_compliance", "sphere_on_coated_half_space", "GridContact", "pressure_moments",
+           "moment_radius"]
