@@ -34,22 +34,24 @@ import scipy.sparse
 from ..errors import ConfigError
 from ..progress import ProgressEvent
 from .fields import VolumeSolution
+from .supernodal import trailing_block
 from .trace import trace_mass
 
 class SchurFactor:
     """The sparse Cholesky factor of the SPD stiffness of the solved dofs,
     CHOLMOD's (through cvxopt), in a nested-dissection ordering of the other
-    dofs (METIS, through pymetis) with the contact dofs ``last`` (indices
-    into the matrix) ordered after all of them: the factor's trailing block
+    dofs (METIS, through pymetis; of their nodes' graph when ``groups``
+    labels each dof's node) with the contact dofs ``last`` (indices into the
+    matrix) ordered after all of them: the factor's trailing block
     is then the Cholesky factor of the Schur complement on the contact dofs,
     whose inverse is the flexibility there (:meth:`contact_inverse`), with
     no solve per contact dof."""
 
-    def __init__(self, A, last: np.ndarray) -> None:
+    def __init__(self, A, last: np.ndarray, groups: np.ndarray | None = None) -> None:
         try:
             import cvxopt
             import cvxopt.cholmod as cholmod
-            import pymetis
+            import pymetis  # noqa: F401 (used by _dissection; checked here)
         except ImportError:
             raise ConfigError(
                 "a finite-element body needs cvxopt (CHOLMOD) and pymetis (METIS); "
@@ -57,21 +59,15 @@ class SchurFactor:
         A = scipy.sparse.csr_array(A)
         n = A.shape[0]
         rest = np.setdiff1d(np.arange(n), last)
-        G = A[rest][:, rest].tocsr()
-        G.setdiag(0.0)
-        G.eliminate_zeros()
-        if rest.size > 1 and G.nnz:
-            order = np.asarray(pymetis.nested_dissection(
-                pymetis.CSRAdjacency(G.indptr, G.indices))[0], dtype=np.int64)
-        else:
-            order = np.arange(rest.size)
-        self.perm = np.concatenate([rest[order], np.asarray(last, dtype=np.int64)])
+        self.perm = np.concatenate([rest[_dissection(A, rest, groups)],
+                                    np.asarray(last, dtype=np.int64)])
         self.n, self.n_last = n, int(np.asarray(last).size)
         low = scipy.sparse.tril(A).tocsc()
         cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(low.indptr))
         M = cvxopt.spmatrix(cvxopt.matrix(low.data.astype(float)),
                             cvxopt.matrix(low.indices.astype(np.int64)),
                             cvxopt.matrix(cols), (n, n))
+        del low, cols
         # the given ordering exactly: no other method tried, no postordering
         cholmod.options.update(nmethods=1, postorder=False, supernodal=2)
         self._M, self._cvxopt, self._cholmod = M, cvxopt, cholmod
@@ -95,11 +91,26 @@ class SchurFactor:
     def contact_inverse(self) -> np.ndarray:
         """(A^-1) on the ``last`` dofs (k, k), in their given order: the
         inverse of the Schur complement L_cc L_ccᵀ, L_cc the factor's
-        trailing block, formed in place (LAPACK's trtri, then lauum:
-        L_cc^-ᵀ L_cc^-1), so that the dense part of the peak is one k × k
-        array.  Reading the factor (CHOLMOD's factor_to_sparse) takes its
-        values, so the matrix is factored again after it (the price of
-        reading it through cvxopt: one more factorization)."""
+        trailing block, read in place from the supernodal factor
+        (:func:`~bemcontact.fem.supernodal.trailing_block`) and inverted in
+        place (LAPACK's trtri, then lauum: L_cc^-ᵀ L_cc^-1), so that the
+        dense part of the peak is one k × k array and the factor stays as it
+        is for the solves."""
+        Lcc = trailing_block(self._F, self.perm, self.n_last)
+        if Lcc is None:  # a factor of another layout: read it through cvxopt
+            Lcc = self._trailing_block_read_out()
+        inv, info = scipy.linalg.lapack.dtrtri(Lcc, lower=1, overwrite_c=1)
+        if info != 0:
+            raise ConfigError("the finite-element Schur complement on the contact dofs is "
+                              "singular (a contact node the supports do not hold)")
+        out, info = scipy.linalg.lapack.dlauum(inv, lower=1, overwrite_c=1)
+        del inv, Lcc
+        return _symmetrized(out)
+
+    def _trailing_block_read_out(self) -> np.ndarray:
+        """The trailing block through cvxopt's ``getfactor``, which moves the
+        factor's values out (CHOLMOD's factor_to_sparse): the matrix is
+        factored again after it, and the factor is held twice meanwhile."""
         k, off = self.n_last, self.n - self.n_last
         L = self._cholmod.getfactor(self._F)
         tail = L[off:, off:]  # the trailing columns only, not a copy of all of L
@@ -111,16 +122,39 @@ class SchurFactor:
             a, b = ptr[j], ptr[j + 1]
             Lcc[rows[a:b], j] = vals[a:b]
         del ptr, rows, vals
-        # CHOLMOD moved the factor's values into L (leaving a simplicial
-        # symbolic factor): factor again, supernodal, for the solves
         self._numeric()
-        inv, info = scipy.linalg.lapack.dtrtri(Lcc, lower=1, overwrite_c=1)
-        if info != 0:
-            raise ConfigError("the finite-element Schur complement on the contact dofs is "
-                              "singular (a contact node the supports do not hold)")
-        out, info = scipy.linalg.lapack.dlauum(inv, lower=1, overwrite_c=1)
-        del inv, Lcc
-        return _symmetrized(out)
+        return Lcc
+
+
+def _dissection(A, rest: np.ndarray, groups: np.ndarray | None) -> np.ndarray:
+    """A METIS nested-dissection ordering of the ``rest`` rows of ``A``
+    (positions into ``rest``): of the graph of their ``groups`` (a label
+    per row of A: a node's dofs), each group's rows kept together, which
+    orders a graph a third the size and gives the factor bigger supernodes
+    (7 % fewer entries, measured on a box of 199,287 dofs), or of the rows
+    themselves without groups."""
+    import pymetis
+
+    if rest.size <= 1:
+        return np.arange(rest.size)
+    B = abs(A[rest][:, rest])
+    if groups is not None:
+        labels, g = np.unique(np.asarray(groups)[rest], return_inverse=True)
+        P = scipy.sparse.csr_array((np.ones(rest.size), (g, np.arange(rest.size))),
+                                   shape=(labels.size, rest.size))
+        B = P @ B @ P.T
+    G = scipy.sparse.csr_array(B)
+    G.setdiag(0.0)
+    G.eliminate_zeros()
+    if not G.nnz:
+        return np.arange(rest.size)
+    order = np.asarray(pymetis.nested_dissection(
+        pymetis.CSRAdjacency(G.indptr, G.indices))[0], dtype=np.int64)
+    if groups is None:
+        return order
+    rank = np.empty(order.size, dtype=np.int64)
+    rank[order] = np.arange(order.size)
+    return np.lexsort((np.arange(rest.size), rank[g]))
 
 
 def _symmetrized(a: np.ndarray, block: int = 512) -> np.ndarray:
@@ -308,7 +342,7 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     index = np.full(n, -1, dtype=np.int64)
     index[np.flatnonzero(solved)] = np.arange(int(solved.sum()))
     cs = index[contact_vdofs]  # each contact dof's solved index (-1: pinned)
-    factor = SchurFactor(Kss, cs[cs >= 0])
+    factor = SchurFactor(Kss, cs[cs >= 0], groups=np.flatnonzero(solved) // 3)
     Pc = scipy.sparse.csr_array((np.ones(dofs.size), (contact_vdofs, np.arange(dofs.size))),
                                 shape=(n, dofs.size))
     flex = FiniteElementFlexibility(
