@@ -165,16 +165,18 @@ class FiniteElementBody:
 
     def condensation_bytes(self, contact_nodes: int, modes: int, states: int, controls: int,
                            linear, chunk: int) -> tuple[float, float]:
-        """(peak, kept) bytes of :meth:`condense`: the sparse factor and its
-        copy while the Schur complement is read from it, taken together as
-        95 n^(4/3) entries for n dofs (nested dissection's growth in 3D, the
-        constant from the measured peaks: 0.81 GB at 27,783 dofs, 8.6 GB at
-        199,287; benchmarks/fem_sparse_solvers.py), the dense flexibility on
-        the contact dofs and the responses kept."""
+        """(peak, kept) bytes of :meth:`condense`: the sparse factor, held
+        once, as 30 n^(4/3) entries for n dofs plus its dense trailing
+        triangle on the k contact dofs (nested dissection's growth in 3D; the
+        constant measured from CHOLMOD's symbolic analysis in the ordering
+        used: 22 to 29 on boxes of linear and quadratic tetrahedra and
+        hexahedra of 26,000 to 196,000 dofs), the contact flexibility and
+        its product with the frame (two k × k arrays) and the responses
+        kept; benchmarks/fem_sparse_solvers.py measures the whole peak."""
         n = self.n_dofs
         kept = 8.0 * 3 * contact_nodes * (modes + states + controls + 6)
-        factor = 95.0 * n ** (4.0 / 3.0)
         dense = (3.0 * contact_nodes) ** 2
+        factor = 30.0 * n ** (4.0 / 3.0) + dense / 2.0
         return 8.0 * (factor + 2.0 * dense + n * (states + controls)) + kept, kept
 
     def stresses(self, solution, points) -> np.ndarray:

@@ -34,7 +34,7 @@ import scipy.sparse
 from ..errors import ConfigError
 from ..progress import ProgressEvent
 from .fields import VolumeSolution
-from .supernodal import trailing_block
+from .supernodal import factor_entries, trailing_block
 from .trace import trace_mass
 
 class SchurFactor:
@@ -82,6 +82,12 @@ class SchurFactor:
         except ArithmeticError:
             raise ConfigError("the finite-element stiffness is not positive definite (a "
                               "material or the supports leave it singular)") from None
+
+    @property
+    def entries(self) -> int | None:
+        """The values the factor holds (its memory is 8 bytes each), None
+        when its layout is not the supernodal one read in place."""
+        return factor_entries(self._F)
 
     def solve(self, b: np.ndarray) -> np.ndarray:
         x = self._cvxopt.matrix(np.asfortranarray(b, dtype=float))

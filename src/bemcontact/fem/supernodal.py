@@ -58,6 +58,15 @@ def _factor(capsule) -> _Factor | None:
         return None
 
 
+def factor_entries(capsule) -> int | None:
+    """The number of values a supernodal factor holds (CHOLMOD's ``xsize``),
+    or None for a capsule that is not a real supernodal factor."""
+    f = _factor(capsule)
+    if f is None or not f.is_super:
+        return None
+    return int(f.xsize)
+
+
 def _array(address: int, size: int, ctype) -> np.ndarray:
     return np.ctypeslib.as_array(ctypes.cast(address, ctypes.POINTER(ctype)), shape=(size,))
 
