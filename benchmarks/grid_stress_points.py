@@ -27,9 +27,7 @@ import json
 import os
 import pathlib
 import resource
-import statistics
 import sys
-import time
 
 import numpy as np
 

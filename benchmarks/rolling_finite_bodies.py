@@ -19,7 +19,6 @@ creepages and their slope F(−0.0005) − F(0).
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import math
 import os
