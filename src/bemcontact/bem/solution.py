@@ -28,6 +28,10 @@ class BodySolution:
         for "hmatrix" the GMRES ``iterations`` and ``residuals`` and the
         compression figures of :meth:`~bemcontact.linalg.CompressedSystem.stats`.
     whole_boundary: whether the fields cover the body's whole boundary.
+    volume_force: the forces on the body's volume (a finite-element body's
+        body force, :class:`~bemcontact.fem.loads.BodyForce`): their
+        resultant (3,) and magnitude ∫ |f| dV, which its tractions balance;
+        None without.
     """
 
     points: np.ndarray
@@ -44,6 +48,7 @@ class BodySolution:
     #: (False for a body seen through part of its surface, e.g. a half-space
     #: patch whose reaction is at infinity)
     whole_boundary: bool = True
+    volume_force: tuple[np.ndarray, float] | None = None
 
     def nodes_of(self, region: str) -> np.ndarray:
         if region not in self.region_names:

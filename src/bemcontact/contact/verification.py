@@ -25,9 +25,9 @@ it is that tight):
   the resultant of its recovered contact tractions equal to what its frames
   transmit, to eps.
 * ``body_equilibrium``: per body, the resultant of all its surface
-  tractions (contact, reactions, applied loads) against their total
-  magnitude sum w_i |t_i|, to :data:`EQUILIBRIUM` (the collocation BEM
-  balances forces only to its discretization error).
+  tractions (contact, reactions, applied loads) and body forces against
+  their total magnitude sum w_i |t_i| + ∫ |f| dV, to :data:`EQUILIBRIUM`
+  (the collocation BEM balances forces only to its discretization error).
 * ``small_displacements``: per body, max |u| (rigid motion included) at most
   :data:`SMALL` of its size (the formulation's small-displacement
   assumption).
@@ -279,6 +279,9 @@ def verify(result) -> Verification:
         f = np.linalg.norm(b.traction, axis=1)
         mag = float(np.abs(b.weights) @ f)
         R = b.weights @ b.traction
+        if b.volume_force is not None:  # a body force: the tractions balance it
+            R = R + b.volume_force[0]
+            mag += b.volume_force[1]
         w["body_equilibrium"].offer(
             [float(np.linalg.norm(R))], [EQUILIBRIUM * max(mag, 1e-300)],
             lambda j, name=name: f"body {name}", lambda j, name=name: {"body": name, **step},

@@ -4,8 +4,9 @@ the contact nodes (:mod:`.condensation`), behind the same body seam as a
 BEM body (:class:`~bemcontact.contact.flexibility.Body`)."""
 
 from .body import FiniteElementBody
+from .loads import BodyForce
 from .material import AnisotropicElastic
 from .mesh import VolumeMesh, box_volume, read_volume_mesh
 
-__all__ = ["AnisotropicElastic", "FiniteElementBody", "VolumeMesh", "box_volume",
+__all__ = ["AnisotropicElastic", "BodyForce", "FiniteElementBody", "VolumeMesh", "box_volume",
            "read_volume_mesh"]

@@ -10,7 +10,10 @@ The conditions are those of a BEM body, on the same kind of regions
 (:mod:`.trace`): a displacement fixes the volume nodes under the region, a
 traction or pressure loads them with its consistent nodal forces, a force
 moves them together (a platen).  A volume node on the boundary between a
-displaced region and another is held by the displacement."""
+displaced region and another is held by the displacement.  A body force
+(:class:`~bemcontact.fem.loads.BodyForce`: gravity, a steady rotation)
+loads every volume node by its consistent nodal forces, in every load
+state (ramped with the bodies' conditions over the first step)."""
 
 from __future__ import annotations
 
@@ -24,6 +27,7 @@ from ..bem.body import ElasticBody
 from ..bem.conditions import BoundaryCondition
 from ..errors import ConfigError
 from .material import MATERIAL_TYPES, elasticity_tensor, isotropic_estimate
+from .loads import BodyForce, densities
 from .mesh import VolumeMesh
 from .trace import trace_discretization
 
@@ -42,11 +46,16 @@ class FiniteElementBody:
         :class:`~bemcontact.bem.body.ElasticBody`; regions not listed are
         traction free.
     name: used in messages.
+    density: mass per volume (≥ 0), a number for the whole body or a
+        mapping volume region -> density; needed by ``body_force``.
+    body_force: :class:`~bemcontact.fem.loads.BodyForce` (gravity, a steady
+        rotation), or None.
     """
 
     def __init__(self, volume: VolumeMesh, material,
                  boundary_conditions: Mapping[str, BoundaryCondition | Sequence[BoundaryCondition]]
-                 | None = None, *, name: str = "body") -> None:
+                 | None = None, *, name: str = "body", density=None,
+                 body_force: BodyForce | None = None) -> None:
         if not isinstance(volume, VolumeMesh):
             raise ConfigError(f"{name}: a finite-element body needs a VolumeMesh, got "
                               f"{type(volume).__name__}")
@@ -58,6 +67,21 @@ class FiniteElementBody:
         self.mesh, surface_to_volume = volume.boundary()
         self._disc, self.volume_node = trace_discretization(self.mesh, surface_to_volume)
         self.boundary_conditions = self.checked_conditions(boundary_conditions or {})
+        #: volume region -> density, or None
+        self.density = densities(name, volume.volume_names, density)
+        if body_force is not None and not isinstance(body_force, BodyForce):
+            raise ConfigError(f"{name}: body_force must be a BodyForce, got "
+                              f"{type(body_force).__name__}")
+        if body_force is not None and not body_force.is_zero and self.density is None:
+            raise ConfigError(f"{name}: a body force needs the density of the body (density=, "
+                              "a number or one per volume region)")
+        if body_force is not None and self.density is not None:
+            missing = [r for r in volume.volume_names if r not in self.density]
+            if missing:
+                raise ConfigError(f"{name}: volume region {missing[0]!r} has no density (a body "
+                                  "force needs one for every region)",
+                                  location={"region": missing[0]})
+        self.body_force = body_force
 
     # the conditions are read on the trace exactly as a BEM body reads its own
     checked_conditions = ElasticBody.checked_conditions
@@ -111,8 +135,12 @@ class FiniteElementBody:
             what = (f"E = {m.youngs_modulus:g}, nu = {m.poisson_ratio:g}"
                     if hasattr(m, "youngs_modulus") else "anisotropic")
             mats.append(what if len(self.materials) == 1 else f"{r}: {what}")
+        f = self.body_force
+        loads = "" if f is None or f.is_zero else "; body force" + (
+            f" g = {list(f.gravity)}" if any(f.gravity) else "") + (
+            f" ω = {list(f.angular_velocity)}" if any(f.angular_velocity) else "")
         return (f"finite elements, {v.skfem.t.shape[1]:,} {kind} cells, {v.n_nodes:,} nodes "
-                f"({self.n_dofs:,} dofs), {'; '.join(mats)}")
+                f"({self.n_dofs:,} dofs), {'; '.join(mats)}{loads}")
 
     def stiffness(self):
         """The stiffness matrix (3n, 3n), scipy CSR, dof 3i + c component c
@@ -201,7 +229,9 @@ class FiniteElementBody:
         return volume_fields(self, _volume_displacement(self, solution))
 
     def model_key(self) -> str:
-        """A hex SHA-256 of the volume mesh, its regions and the material."""
+        """A hex SHA-256 of the volume mesh, its regions, the material and
+        the body force with its densities (a load of the condensation: its
+        response is part of it)."""
         h = hashlib.sha256()
         m = self.volume.skfem
         for part in (m.p, m.t, self.volume.face_region):
@@ -212,6 +242,8 @@ class FiniteElementBody:
         h.update(a.tobytes())
         h.update(repr(("fem", self.volume.cell_type, self.volume.order, self.region_names,
                        self.volume.volume_names, sorted(self.materials.items()))).encode())
+        if self.body_force is not None and not self.body_force.is_zero:
+            h.update(repr((self.body_force, sorted(self.density.items()))).encode())
         return h.hexdigest()
 
     def same_model(self, other) -> bool:
@@ -227,6 +259,8 @@ class FiniteElementBody:
                                   v.skfem.t)
         vol._basis = None
         c.volume = vol
+        if self.body_force is not None:
+            c.body_force = self.body_force.translated(origin)
         c.mesh, s2v = vol.boundary()
         c._disc, c.volume_node = trace_discretization(c.mesh, s2v)
         return c

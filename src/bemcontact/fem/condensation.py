@@ -34,6 +34,7 @@ import scipy.sparse
 from ..errors import ConfigError
 from ..progress import ProgressEvent
 from .fields import VolumeSolution
+from .loads import nodal_body_forces
 from .supernodal import factor_entries, trailing_block
 from .trace import trace_mass
 
@@ -212,10 +213,19 @@ class FiniteElementFlexibility:
         S = self._S
         new = FiniteElementFlexibility(**self.__dict__)
         new.body, new.values, new.controls, new.forces = body, values, controls, forces
-        new._u = np.hstack([self._u[:, :S] @ coef, self._u[:, S:]])
-        new._R = np.hstack([self._R[:, :S] @ coef, self._R[:, S:]])
+        states_u, states_R = self._u[:, :S] @ coef, self._R[:, :S] @ coef
         new.f_states, new.g_states = self.f_states @ coef, self.g_states @ coef
         new.known_modal_force = self.known_modal_force @ coef
+        if self._body is not None:  # the body force, on in every state
+            u_b, f_b, R_b, m_b = self._body
+            states_u = states_u + u_b[:, None]
+            states_R = states_R + R_b[:, None]
+            new.f_states = new.f_states + f_b[:, None]
+            new.known_modal_force = new.known_modal_force + m_b[:, None]
+            new._body = None
+        new.body_weights = np.ones(coef.shape[1]) if self.f_body.any() else self.body_weights @ coef
+        new._u = np.hstack([states_u, self._u[:, S:]])
+        new._R = np.hstack([states_R, self._R[:, S:]])
         new._S = coef.shape[1]
         new.timings = {"assembly": 0.0, "condensation": 0.0}
         return new
@@ -250,7 +260,11 @@ class FiniteElementFlexibility:
         controlled: dict[str, np.ndarray] = {}
         for ctl, Uk in zip(self.controls, U):
             controlled.setdefault(ctl.region, np.full(3, np.nan))[ctl.component] = Uk
-        sol = VolumeSolution(points=d.points, normals=d.normals,
+        volume_force = None
+        if self.f_body.any():  # the body force's share of f: its resultant and size
+            fb = self.f_body.reshape(-1, 3) * float(self.body_weights @ ell)
+            volume_force = (fb.sum(axis=0), float(np.linalg.norm(fb, axis=1).sum()))
+        sol = VolumeSolution(points=d.points, normals=d.normals, volume_force=volume_force,
                              displacement=disp.reshape(-1, 3), traction=t.reshape(-1, 3),
                              weights=d.weights, region=d.region, region_names=b.region_names,
                              discretization=d, timings=dict(self.timings),
@@ -318,6 +332,12 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     f_trace = (M @ T).reshape(3 * d.n_points, S)
     f_states = np.zeros((n, S))
     np.add.at(f_states, vd, f_trace)
+    # the body force is on in every state; the load fields of a reusable
+    # condensation hold none: its response is kept apart and added to each
+    # state by recombined
+    f_body = nodal_body_forces(body)
+    if load_fields is None:
+        f_states += f_body[:, None]
     K, _ = body.stiffness()
     # free rigid modes, and the pins that hold them
     X = body.volume.node_points
@@ -356,7 +376,8 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
         forces=forces, modes=modes, K=K, K_sh=K_sh, held=fixed, solved=solved, factor=factor,
         f_states=f_states, g_states=g_states, indicators=indicators, Rf=Rf, Pc=Pc,
         contact_vdofs=contact_vdofs, trace_vdofs=vd, _S=S,
-        known_modal_force=Rf.T @ f_states,
+        known_modal_force=Rf.T @ f_states, _body=None, f_body=f_body,
+        body_weights=np.ones(S) if load_fields is None else np.zeros(S),
     )
     if progress is not None:
         progress(ProgressEvent("end", "assembly", f"assembly {what}", seconds=t1 - t0))
@@ -364,11 +385,15 @@ def condense(body, nodes: np.ndarray, states=None, progress=None, modes=None, *,
     # reactions on the controlled components: C (K u - f)
     Crows = scipy.sparse.csr_array(indicators.T) @ K if controls else None
     # load states and platens (kept whole: recovery), then the modes (contact rows)
-    cols_f = np.hstack([f_states, np.zeros((n, len(controls)))])
-    cols_g = np.hstack([g_states, indicators])
+    apart = load_fields is not None and f_body.any()
+    cols_f = np.hstack([f_states, np.zeros((n, len(controls)))]
+                       + ([f_body[:, None]] if apart else []))
+    cols_g = np.hstack([g_states, indicators] + ([np.zeros((n, 1))] if apart else []))
     u = flex._solve(cols_f, cols_g)
-    flex._u = u
-    flex._R = (Crows @ u - indicators.T @ cols_f) if controls else np.zeros((0, u.shape[1]))
+    R = (Crows @ u - indicators.T @ cols_f) if controls else np.zeros((0, u.shape[1]))
+    # the body force's response, force, reactions and modal force, or None
+    flex._body = (u[:, -1], f_body, R[:, -1], Rf.T @ f_body) if apart else None
+    flex._u, flex._R = (u[:, :-1], R[:, :-1]) if apart else (u, R)
     # the flexibility on the contact dofs (the Schur complement's inverse;
     # a pinned dof does not move), its responses to the modes, and by
     # reciprocity the platens' reactions to them: C K u_m = -(Y on the
