@@ -27,7 +27,9 @@ it is that tight):
 * ``body_equilibrium``: per body, the resultant of all its surface
   tractions (contact, reactions, applied loads) and body forces against
   their total magnitude sum w_i |t_i| + ∫ |f| dV, to :data:`EQUILIBRIUM`
-  (the collocation BEM balances forces only to its discretization error).
+  (the collocation BEM balances forces only to its discretization error),
+  or to the round-off of the forces its displacements cause
+  (:data:`ROUND_OFF`), whichever is larger.
 * ``small_displacements``: per body, max |u| (rigid motion included) at most
   :data:`SMALL` of its size (the formulation's small-displacement
   assumption).
@@ -56,6 +58,11 @@ DIRECTION_FLOOR = 1e-4
 #: A body's force balance, relative to the total magnitude of its surface
 #: forces.
 EQUILIBRIUM = 2e-2
+#: A body's force balance is also met below this fraction of the force its
+#: displacements would cause at its contacts' stiffness (r |u| size²): the
+#: round-off of tractions that balance nothing (a body moved clear of
+#: every contact carries only that).
+ROUND_OFF = 1e-10
 #: Largest displacement, relative to the body's size.
 SMALL = 0.1
 #: Gaps are compared with at least this fraction of the bodies' size (the
@@ -186,6 +193,7 @@ def verify(result) -> Verification:
     bodies = dict(zip(result.names, result.bodies))
     step = {"step": result.label} if result.label else {}
     received: dict[str, list] = {}
+    stiffness: dict[str, float] = {}  # per body, its pairs' largest augmentation
     for pair in result.pairs:
         fr = pair.frame
         label = pair.label
@@ -215,6 +223,9 @@ def verify(result) -> Verification:
         # the search distance) but over the other surface must stay out of
         # it: nothing would hold it, and the contact cut there is wrong
         r_max = float(np.max(r, initial=0.0)) or np.inf
+        for n in pair.names:
+            if np.isfinite(r_max):
+                stiffness[n] = max(stiffness.get(n, 0.0), r_max)
         for i in pair.interfaces:
             if not i.paired.size:
                 continue
@@ -282,11 +293,12 @@ def verify(result) -> Verification:
         if b.volume_force is not None:  # a body force: the tractions balance it
             R = R + b.volume_force[0]
             mag += b.volume_force[1]
+        u = np.linalg.norm(b.displacement, axis=1)
+        noise = ROUND_OFF * stiffness.get(name, 0.0) * float(u.max(initial=0.0)) * sizes[name] ** 2
         w["body_equilibrium"].offer(
-            [float(np.linalg.norm(R))], [EQUILIBRIUM * max(mag, 1e-300)],
+            [float(np.linalg.norm(R))], [max(EQUILIBRIUM * mag, noise, 1e-300)],
             lambda j, name=name: f"body {name}", lambda j, name=name: {"body": name, **step},
             lambda j, R=R, mag=mag: f"resultant {_at(R)} against {mag:.3g} of surface forces")
-        u = np.linalg.norm(b.displacement, axis=1)
         if u.size:
             w["small_displacements"].offer(
                 u, SMALL * sizes[name],

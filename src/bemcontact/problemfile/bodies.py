@@ -237,9 +237,39 @@ def read_materials(c: Checker, where: str, b: dict, volume) -> Any:
     return out
 
 
+def read_body_force(c: Checker, where: str, b: dict, fem: bool, volume):
+    """(density, body force) of a ``[[body]]`` at ``where``: ``body_force``
+    (a finite-element body's only) and its materials' ``density``, one per
+    volume region; (None, None) without a body force."""
+    if "body_force" not in b:
+        return None, None
+    value = b["body_force"]
+    if not fem:
+        c.fail(f"{where}.body_force", "needs a finite-element body (a BEM body's volume is not "
+               "meshed)", value, 'add model = "fem" to the body')
+    t = c.table(f"{where}.body_force", value, schema.BODY_FORCE)
+    f = c.fields(f"{where}.body_force", t, schema.BODY_FORCE)
+    from ..fem.loads import BodyForce
+
+    force = BodyForce(**f)
+    if "material" in b:
+        tables = {r: (f"{where}.material", b["material"]) for r in volume.volume_names}
+    else:
+        tables = {r: (f"{where}.materials.{r}", b["materials"][r]) for r in volume.volume_names}
+    density = {}
+    for region, (at, table) in tables.items():
+        if "density" not in table:
+            if force.is_zero:
+                return None, force
+            c.fail(f"{at}.density", "missing: the body force needs the density of every volume "
+                   "region", table, "add density = ... (mass per volume)")
+        density[region] = table["density"]
+    return density, force
+
+
 def surface_of(mesh) -> SurfaceMesh:
     """The surface a body's regions and contact surfaces are on."""
     return mesh if isinstance(mesh, SurfaceMesh) else mesh.boundary()[0]
 
 
-__all__ = ["FEM_ELEMENTS", "read_material", "read_materials", "read_mesh_table", "surface_of"]
+__all__ = ["FEM_ELEMENTS", "read_body_force", "read_material", "read_materials", "read_mesh_table", "surface_of"]

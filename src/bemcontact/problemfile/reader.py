@@ -66,7 +66,7 @@ from ..output.write import (
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
 from .method import on_grid
-from .bodies import read_material, read_materials, read_mesh_table, surface_of
+from .bodies import read_body_force, read_material, read_materials, read_mesh_table, surface_of
 from .pairs import read_pairs
 from .sizes import check_body_size
 from .stresses import stress_requests
@@ -282,6 +282,8 @@ class _Reader(Checker):
             if not fem[i]:
                 check_body_size(self, f"body[{i}].mesh", meshes[i], b["mesh"])
         materials = [self.material(i, b, given[i], fem[i]) for i, b in enumerate(raw_bodies)]
+        loads = [read_body_force(self, f"body[{i}]", b, fem[i], given[i])
+                 for i, b in enumerate(raw_bodies)]
         specs = read_pairs(self, content["contact"], names, meshes)
         for sp in specs:
             if sp.pair.method == "multiscale" and any(fem[i] for i in sp.order):
@@ -306,7 +308,9 @@ class _Reader(Checker):
                 if fem[i]:
                     from ..fem import FiniteElementBody
 
-                    bodies.append(FiniteElementBody(given[i], materials[i], bcs, name=names[i]))
+                    density, force = loads[i]
+                    bodies.append(FiniteElementBody(given[i], materials[i], bcs, name=names[i],
+                                                    density=density, body_force=force))
                 else:
                     bodies.append(ElasticBody(meshes[i], materials[i], bcs, name=names[i]))
             except BemcontactError as exc:  # the closed/oriented surface check

@@ -32,6 +32,7 @@ from ..contact.options import CONDENSATION_LINEAR, SolverOptions
 from ..contact.rolling import Rolling
 from ..contact.pair import FRAME_RULES, ContactPair
 from ..contact.history import LoadStep
+from ..fem.loads import BodyForce
 from ..linalg.options import HMatrixOptions, LinearSolverOptions
 from ..mesh.element import ELEMENT_TYPES
 
@@ -206,6 +207,9 @@ MATERIAL = Key(
             "(stress), symmetric positive definite", length=6),
         Key("axis1", "vector", "the material's axis 1 in global coordinates", default=[1, 0, 0]),
         Key("axis2", "vector", "the material's axis 2 in global coordinates", default=[0, 1, 0]),
+        Key("density", "number", "mass per volume, in units consistent with the rest (mm, N, "
+            "MPa, s: tonnes per mm³, steel 7.85e-9); needed by a finite-element body's "
+            "`body_force`", lo=0),
     ),
 )
 
@@ -242,6 +246,17 @@ BOUNDARY_CONDITIONS = Key(
     section="body.boundary_conditions", entry=CONDITION,
 )
 
+BODY_FORCE = Key(
+    "body_force", "table", "a finite-element body's body force: its weight in uniform gravity "
+    "and the centrifugal load of a steady rotation, ρ (g + |ω|² r − (ω · r) ω), r from "
+    "`center`", section="body.body_force",
+    notes="Each volume region's material needs its `density`. The body is at rest in the frame "
+    "that rotates with it; the load is on in every load step (ramped with the bodies' "
+    "conditions over the first). A BEM body has none (its volume is not meshed): give it "
+    '`model = "fem"`.',
+    keys=keys_of(BodyForce),
+)
+
 BODY = Key(
     "body", "tables", "the bodies, as two or more `[[body]]` sections (an assembly: every "
     "body in a contact pair)", True, section="body",
@@ -255,6 +270,7 @@ BODY = Key(
         MATERIAL,
         MATERIALS,
         BOUNDARY_CONDITIONS,
+        BODY_FORCE,
     ),
 )
 

@@ -137,6 +137,21 @@ def test_an_unbalanced_body_is_caught(solved):
     assert "body upper" in v.message()
 
 
+def test_a_body_moved_clear_of_the_contact_is_verified():
+    """The upper cube lifted 0.04 off the lower: every node open, no force
+    anywhere, and the round-off of its tractions (1e-13 against loads of
+    none) is no unbalance; a tenth of the forces its lift would cause at
+    the contact's stiffness is still caught."""
+    res = _cubes(top=(0.0, 0.0, 0.04)).solve(bc.SolverOptions(progress=False))
+    assert res.converged and res.verification.passed
+    assert np.nanmin(res.pairs[0].frame.gap) > 0.03  # open everywhere
+    assert abs(res.normal_force) <= 1e-9
+    r = copy.deepcopy(res)
+    b = r.bodies[1]
+    b.traction[0] += [0.0, 0.0, 1e-3 * E * 0.04 / b.weights[0]]
+    assert "body upper" in _failed(r, "body_equilibrium").message()
+
+
 def test_a_huge_rigid_motion_is_caught(solved):
     r = copy.deepcopy(solved)
     b = r.bodies[1]

@@ -20,7 +20,7 @@ from .test_reader import BASE, edit, write
 pytest.importorskip("skfem")
 pytest.importorskip("cvxopt")
 
-from bemcontact.fem import FiniteElementBody, box_volume  # noqa: E402
+from bemcontact.fem import BodyForce, FiniteElementBody, box_volume  # noqa: E402
 
 FEM = edit(edit(BASE, 'name = "lower"\n', 'name = "lower"\nmodel = "fem"\n'),
            "upper = [2, 2, 2], divisions = 1 }", "upper = [2, 2, 2], divisions = 3, "
@@ -65,9 +65,34 @@ def test_a_layered_solid_has_a_material_per_layer(tmp_path):
     assert np.allclose(lower.materials["substrate"].rotation()[:, 2], [0, 0, -1])
 
 
+GRAVITY = edit(FEM, LOWER_MAT := "material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }",
+               "material = { youngs_modulus = 1e4, poisson_ratio = 0.3, density = 1.0 }\n"
+               "body_force = { gravity = [0, 0, -10] }")
+
+
+def test_a_body_force_from_the_file_is_the_api_one(tmp_path):
+    """The lower block's own weight (ρ g = 10 over its height of 2, a fifth
+    of the contact's pressure) compresses it under the contact: the force
+    differs from the weightless one by percents, and is the API body's to
+    round-off."""
+    p = load_problem(write(tmp_path, GRAVITY))
+    lower, upper = p.bodies
+    assert lower.body_force.gravity == (0.0, 0.0, -10.0) and lower.density == {"body": 1.0}
+    res = p.solve()
+    api = FiniteElementBody(box_volume((0, 0, 0), (2, 2, 2), 3, "hex8", 2),
+                            bc.LinearElastic(1e4, 0.3), {"zmin": bc.Displacement((0, 0, 0))},
+                            name="lower", density=1.0,
+                            body_force=BodyForce(gravity=(0.0, 0.0, -10.0)))
+    ref = bc.ContactProblem(api, upper, p.pair).solve(p.options)
+    weightless = load_problem(write(tmp_path, FEM)).solve()
+    assert res.converged and res.normal_force == pytest.approx(ref.normal_force, rel=1e-12)
+    assert not res.normal_force == pytest.approx(weightless.normal_force, rel=1e-2)
+    # the support carries the contact force and the weight 10 x 8
+    assert res.bodies[0].reaction("zmin")[2] == pytest.approx(res.normal_force + 80, rel=1e-9)
+
+
 STIFF = "[[1, 0, 0, 0, 0, 0], [0, 1, 0, 0, 0, 0], [0, 0, 1, 0, 0, 0], [0, 0, 0, 1, 0, 0], " \
         "[0, 0, 0, 0, -1, 0], [0, 0, 0, 0, 0, 1]]"
-LOWER_MAT = "material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }"
 
 
 @pytest.mark.parametrize("old, new, field, what", [
@@ -84,6 +109,14 @@ LOWER_MAT = "material = { youngs_modulus = 1e4, poisson_ratio = 0.3 }"
      "body[0].material", "not both isotropic and orthotropic"),
     ('frame = "mortar"', 'frame = "mortar"\nmethod = "multiscale"', "contact.method",
      "the contact grid takes BEM bodies"),
+    (LOWER_MAT, LOWER_MAT + "\nbody_force = { gravity = [0, 0, -1] }",
+     "body[0].material.density", "missing: the body force needs the density"),
+    (LOWER_MAT, LOWER_MAT + "\nbody_force = { gravty = [0, 0, -1] }",
+     "body[0].body_force.gravty", "unknown key"),
+    (LOWER_MAT, LOWER_MAT + "\nbody_force = { gravity = [0, -1] }",
+     "body[0].body_force.gravity", "3"),
+    ("poisson_ratio = 0.3 }", "poisson_ratio = 0.3, density = -1 }",
+     "body[0].material.density", ">= 0"),
 ])
 def test_bad_fem_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, old, new, field,
                                                            what):
@@ -101,6 +134,10 @@ def test_bad_fem_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, old,
     ("material = { youngs_modulus = 2e4, poisson_ratio = 0.25 }",
      "material = { youngs_moduli = [1e4, 1e4, 1e4], poisson_ratios = [0.3, 0.3, 0.3], "
      "shear_moduli = [4e3, 4e3, 4e3] }", "body[1].material.youngs_moduli",
+     "needs a finite-element body"),
+    ("material = { youngs_modulus = 2e4, poisson_ratio = 0.25 }",
+     "material = { youngs_modulus = 2e4, poisson_ratio = 0.25, density = 1 }\n"
+     "body_force = { gravity = [0, 0, -1] }", "body[1].body_force",
      "needs a finite-element body"),
 ])
 def test_fem_only_keys_on_a_bem_body_are_refused(tmp_path, old, new, field, what):
