@@ -46,6 +46,23 @@ def test_a_run_writes_the_volume_file(tmp_path, capsys):
     assert (out / "lower_volume.vtu").is_file() and not (out / "upper_volume.vtu").exists()
 
 
+def test_the_stress_output_of_a_fem_body_is_its_own_stresses(tmp_path):
+    """``[[output.stresses]]`` on the finite-element body: the file's
+    stresses are the body's (its elements' strains at the points), to the
+    CSV's 17 digits."""
+    line = ('\n[[output.stresses]]\nbody = "lower"\nline = { from = [1, 1, 1.9], '
+            'to = [1, 1, 0.5], points = 8 }\n')
+    path = write(tmp_path, FEM + line)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--quiet"]) == 0
+    table = np.loadtxt(out / "stresses_lower_1.csv", delimiter=",", skiprows=1)
+    res = load_problem(path).solve()
+    want = res.stresses("lower", table[:, :3])
+    voigt = table[:, [3, 4, 5, 7, 8, 6]]  # the file's sxx syy szz sxy syz sxz
+    assert np.abs(voigt - want).max() <= 1e-12 * np.abs(want).max()
+    assert np.abs(want[:, 2]).min() > 100  # the contact's compression: a real load
+
+
 def test_a_layered_solid_has_a_material_per_layer(tmp_path):
     pytest.importorskip("gmsh")
     text = edit(FEM, "mesh = { box = { lower = [0, 0, 0], upper = [2, 2, 2], divisions = 3, "
