@@ -13,7 +13,7 @@ import sys
 import time
 
 
-def run_one(script: str, size: int) -> dict:
+def run_one(script: str, size) -> dict:
     """``python SCRIPT --one SIZE`` in its own process (so the peak RSS is
     that size's); the last stdout line is the row as JSON."""
     out = subprocess.run(
@@ -22,13 +22,13 @@ def run_one(script: str, size: int) -> dict:
     return json.loads(out.strip().splitlines()[-1])
 
 
-def run_median(script: str, size, repeat: int) -> dict:
-    """``run_one`` ``repeat`` times: the first run's row with the median
-    ``cpu_s`` and ``wall_s`` (each run's in ``<key>_runs``) and the largest
+def run_median(script: str, size, repeat: int, keys=("cpu_s", "wall_s")) -> dict:
+    """``run_one`` ``repeat`` times: the first run's row with the median of
+    each of ``keys`` (each run's in ``<key>_runs``) and the largest
     ``peak_rss_mb``."""
     rows = [run_one(script, size) for _ in range(repeat)]
     row = dict(rows[0])
-    for key in ("cpu_s", "wall_s"):
+    for key in keys:
         row[key] = statistics.median(x[key] for x in rows)
         row[key + "_runs"] = [x[key] for x in rows]
     row["peak_rss_mb"] = max(x["peak_rss_mb"] for x in rows)

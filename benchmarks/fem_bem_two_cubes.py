@@ -1,9 +1,9 @@
 """The same body as a finite-element and as a boundary-element body, side by
 side: the founding paper's dissimilar two cubes (docs/validation.md, "The
 paper's two cubes with one cube FEM") with the lower cube BEM (quad4, N
-divisions per edge) or FEM (quadratic hexahedra, N per edge: the same
-boundary resolution: box_volume(..., "hex8", order 2)), the upper cube BEM (quad4, N - 1; E = 1e8), μ = 0.1,
-the top moved 0.04 down, default SolverOptions.
+divisions per edge) or FEM (Q2 hexahedra, N per edge: the same boundary
+resolution), the upper cube BEM (quad4, N - 1; E = 1e8), μ = 0.1, the top
+moved 0.04 down, default SolverOptions.
 
 Prints a Markdown table per N and model: the lower cube's unknowns (BEM:
 3 per functional node; FEM: its volume dofs), the stages of
@@ -20,12 +20,13 @@ from __future__ import annotations
 import argparse
 import json
 import resource
-import statistics
-import subprocess
 import sys
 import time
 
-from _common import machine_line
+from _common import machine_line, run_median
+
+#: the times that are medians over the runs
+TIMES = ("assembly_s", "condensation_s", "newton_s", "wall_s", "cpu_s")
 
 MODELS = ("bem", "fem")
 
@@ -57,22 +58,10 @@ def one(n: int, model: str) -> dict:
             "normal_force": float(res.normal_force), "converged": bool(res.converged)}
 
 
-def run(n: int, model: str, repeat: int) -> dict:
-    rows = []
-    for _ in range(repeat):
-        out = subprocess.run([sys.executable, __file__, "--one", str(n), model],
-                             capture_output=True, text=True, check=True).stdout
-        rows.append(json.loads(out.strip().splitlines()[-1]))
-    row = dict(rows[0])
-    for key in ("assembly_s", "condensation_s", "newton_s", "wall_s", "cpu_s"):
-        row[key] = statistics.median(r[key] for r in rows)
-    row["peak_rss_mb"] = max(r["peak_rss_mb"] for r in rows)
-    return row
-
-
 def main() -> None:
-    if sys.argv[1:2] == ["--one"]:
-        print(json.dumps(one(int(sys.argv[2]), sys.argv[3])))
+    if sys.argv[1:2] == ["--one"]:  # "N:model", from run_median
+        n, model = sys.argv[2].split(":")
+        print(json.dumps(one(int(n), model)))
         return
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="6,12,18")
@@ -86,7 +75,7 @@ def main() -> None:
     for n in (int(s) for s in args.sizes.split(",")):
         ref = None
         for model in MODELS:
-            r = run(n, model, args.repeat)
+            r = run_median(__file__, f"{n}:{model}", args.repeat, TIMES)
             ref = r["normal_force"] if ref is None else ref
             print(f"| {n} | {model.upper()} | {r['unknowns']:,} | {r['assembly_s']:.2f} | "
                   f"{r['condensation_s']:.2f} | {r['newton_s']:.2f} | {r['wall_s']:.2f} | "

@@ -212,7 +212,6 @@ def test_fem_bem_two_cubes_benchmark_smoke():
     carry the same force within 0.5 % (measured +0.24 %: the paper's
     dissimilar cubes, docs/validation.md, converge together under
     refinement)."""
-    pytest.importorskip("skfem")
     spec = importlib.util.spec_from_file_location("b_fb", BENCH / "fem_bem_two_cubes.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
