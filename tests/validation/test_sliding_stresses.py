@@ -213,7 +213,7 @@ def test_the_sphere_slides_over_the_whole_contact(sliding):
 
 
 #: (deep, shallow inside, shallow at the edges) tolerances / p0 per path
-TIERS = {"multiscale": (0.005, 0.005, 0.015), "full": (0.035, 0.06, 0.2)}
+TIERS = {"multiscale": (0.01, 0.01, 0.025), "full": (0.035, 0.06, 0.2)}
 
 
 def test_the_block_stresses_match_hamilton(sliding):
@@ -221,9 +221,13 @@ def test_the_block_stresses_match_hamilton(sliding):
     of Hertz at the computed force, largest error / p0 per tier (module
     docstring).  Measured (mu = 0.25 / 0.5):
 
-    * multiscale (cells of a/25.6): deep 0.14 / 0.23 %, shallow inside
-      0.14 / 0.19 %, shallow edges 0.54 / 0.62 % (at (a, 0.05a)) -> tiers
-      0.5 / 0.5 / 1.5 %;
+    * multiscale (cells of a/25.6): deep 0.28 / 0.53 %, shallow inside
+      0.26 / 0.51 %, shallow edges 0.74 / 1.20 % (at (a, 0.05a)) -> tiers
+      1 / 1 / 2.5 %.  Proportional to mu: what is left is the finite bodies'
+      normal-tangential coupling (the sphere's and the block's no longer
+      cancel as two identical half-spaces' do), which Hamilton's field
+      leaves out and the full path converges to as well (deep 0.42 / 0.61 %
+      at h = 0.05 mm, below);
     * full path (h = 0.1 mm, a/h = 5.6): deep 1.39 / 1.52 %, shallow inside
       2.57 / 2.63 %, shallow edges 9.0 / 9.4 % (at (1.05a, 0.05a), just
       ahead of the leading edge, 0.28 h deep) -> tiers 3.5 / 6 / 20 %.

@@ -402,7 +402,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
 #: contact's size against each surface's radius of curvature (the half-space
 #: near field is first order in a/R), against the distance to the contact
 #: surface's edge and against the body's thickness along the normal.
-LIMITS = {"estimate": 1e-2, "a_over_R": 0.1, "edge_over_a": 5.0, "thickness_over_a": 5.0}
+LIMITS = {"estimate": 3e-3, "a_over_R": 0.1, "edge_over_a": 5.0, "thickness_over_a": 5.0}
 
 
 def applicability(result: GridResult, problem) -> dict:

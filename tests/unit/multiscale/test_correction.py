@@ -19,6 +19,7 @@ from bemcontact.multiscale.correction import (
     lagrange_weights,
     point_load_displacements,
 )
+from bemcontact.multiscale.pair import LIMITS
 from bemcontact.validation import cases
 
 G, NU = 80.0, 0.3
@@ -68,13 +69,14 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_
     (fine size 0.5 mm ≈ 0.9a: 778 and 403 nodes), the sphere's curved face
     with its near field.  Measured: the half-spaces alone carry 4.1 % less
     force (the finite bodies are stiffer than two half-spaces to their
-    supports); corrected, P is within +0.58 % of the full path and the
-    pressure within 0.96 % of p0 (rms inside 0.9a; the full path's nodal
-    against the grid's cell values), the correction's own estimate 2e-4.
-    Asserted: the uncorrected force 3.5-5 % low (the test must see the
-    finite bodies), the corrected one within 1 %, the pressure within 1.5 %
-    of p0.  The remaining +0.58 % is the curved face's near field treated to
-    first order (docs/decisions.md)."""
+    supports); corrected, P is within −0.13 % of the full path, the
+    correction's own estimate 9e-4 (the sphere's; the block's 2e-5).
+    Asserted: the estimate within the applicability bound (LIMITS: 3e-3),
+    the uncorrected force 3.5-5 % low (the test must see the finite
+    bodies), the corrected one within the issue's 0.3 % and the pressure
+    within 1.5 % of p0 (rms inside 0.9a; the full path's nodal values
+    against the grid's cell values: the two discretizations' own
+    difference at a/h = 8)."""
     a_over_h = 8.0
     a_guess = math.sqrt(10.0 * 0.03)
     P_full, r, p, h = full_sphere_on_block
@@ -85,7 +87,7 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_
     corrections = [BodyCorrection(block, 1, np.zeros(3), np.eye(3), grid),
                    BodyCorrection(sphere, 2, np.zeros(3), np.eye(3), grid,
                                   curvature=(0.1, 0.1))]
-    assert max(c.estimate for c in corrections) < 1e-3
+    assert max(c.estimate for c in corrections) < LIMITS["estimate"]
     Gs = coarse.youngs_modulus / (2.0 * (1.0 + coarse.poisson_ratio))
     pair = Compliance.pair(Gs, coarse.poisson_ratio, Gs, coarse.poisson_ratio)
     c = grid.centres
@@ -102,5 +104,5 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_
         found.append((gi.force()[2] / P_full - 1.0, rms))
     (alone, _), (corrected, rms) = found
     assert -0.05 < alone < -0.035, alone
-    assert abs(corrected) < 0.01, corrected
+    assert abs(corrected) < 3e-3, corrected
     assert rms < 0.015, rms

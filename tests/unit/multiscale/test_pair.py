@@ -137,15 +137,16 @@ def _on_layer(thickness: float, offset: float = 0.0) -> ContactProblem:
     (10.0, 8.5, "from an edge"),
 ])
 def test_auto_sends_a_thin_layer_and_an_edge_to_the_full_path(thickness, offset, reason):
-    """``method = "auto"``: a layer 1.2 contact widths thick (its correction's
-    estimate is 0.2, too) and a contact 2.2 widths from the block's edge
-    fail their applicability checks (the half-space and its smooth
-    correction do not hold there), so the full path solves them, and the
-    line says why.  (Measured: 2.5 mm thick, 3.7 widths, is refused too;
-    6.5 mm from the centre, 5.2 widths from the edge, is solved on the grid.)"""
+    """``method = "auto"``: a layer 1.2 contact widths thick and a contact 2.2
+    widths from the block's edge fail their geometric applicability checks
+    and their corrections' estimates (measured 4.9e-2 and 2.2e-2, against
+    3e-3), so the full path solves them, and the line says why.  (Measured:
+    2.5 mm thick, 3.7 widths, is refused too, by its thickness alone; 6.5 mm
+    from the centre, 5.2 widths from the edge, is solved on the grid.)"""
     result, note = on_grid(_on_layer(thickness, offset), (), "auto", SolverOptions())
     assert result is None
     assert note.startswith('contact.method = "auto": the full path (') and reason in note
+    assert "error estimate" in note
 
 
 def test_auto_solves_resolved_meshes_as_meshed_and_coarse_ones_on_the_grid():
