@@ -30,10 +30,12 @@ import math
 import time
 
 import numpy as np
+import scipy.signal
 import scipy.linalg
 
 from ..errors import ConfigError
 from ..halfspace import Compliance, Grid, HalfSpaceOperator, rectangle_stresses
+from ..halfspace.influence import blocks_from_integrals, rectangle_integrals
 from ..linalg import LinearSolverOptions
 from .operator import ToeplitzOperator
 
@@ -87,18 +89,15 @@ def near_share(r: np.ndarray, radius: float) -> np.ndarray:
     return 0.5 * (1.0 + np.cos(math.pi * x))
 
 
-def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
-                      curvature: tuple[float, float], radius: float) -> np.ndarray:
-    """(2nx − 1, 2ny − 1, 3, 3) the curved surface's near field (local
-    components): the displacement at each cell offset per unit traction on
-    a cell, of the traction −σ_hs·n that the half-space field of that cell
-    leaves on a surface curved as ``curvature`` (κ_x, κ_y: depth
-    ½ (κ_x x² + κ_y y²) from the plane tangent at the loaded cell) within
-    ``radius`` of it, spread by the half-space operator, plus the
-    half-space field of the cell read on that surface instead of on the
-    plane (the cell's point force at the offset, at the surface's depth,
-    less on the plane).  First order in κ a; for a surface of uniform
-    curvature it depends on the offset only."""
+def near_field_tractions(grid: Grid, poisson_ratio: float, curvature: tuple[float, float],
+                         radius: float) -> tuple[Grid, np.ndarray]:
+    """The (2nx − 1) × (2ny − 1) window of cell offsets (a :class:`Grid`
+    centred on the loaded cell) and (cells, 3, 3) the near field's share
+    (:func:`near_share`) of the residual traction −σ_hs·n (local components,
+    per unit traction on the loaded cell along each local direction) that
+    the half-space field of a cell leaves on a surface curved as
+    ``curvature`` (κ_x, κ_y: depth ½ (κ_x x² + κ_y y²) from the plane
+    tangent at the loaded cell) within ``radius`` of it."""
     nx, ny = grid.shape
     big = Grid.centred(2 * nx - 1, 2 * ny - 1, grid.dx, grid.dy)
     c = big.centres
@@ -113,6 +112,26 @@ def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
     sig = rectangle_stresses(c[inside, 0], c[inside, 1], depth[inside], hx, hy, poisson_ratio)
     t[inside] = -_voigt_times(sig, n_out[inside]) * near_share(
         np.hypot(c[inside, 0], c[inside, 1]), radius)[:, None, None]
+    return big, t
+
+
+def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
+                      curvature: tuple[float, float], radius: float) -> np.ndarray:
+    """(2nx − 1, 2ny − 1, 3, 3) the curved surface's near field (local
+    components): the displacement at each cell offset per unit traction on
+    a cell, of the near field's share of the residual traction
+    (:func:`near_field_tractions`) spread by the half-space operator, plus
+    the half-space field of the cell read on that surface instead of on the
+    plane (the cell's point force at the offset, at the surface's depth,
+    less on the plane).  First order in κ a; for a surface of uniform
+    curvature it depends on the offset only."""
+    nx, ny = grid.shape
+    big, t = near_field_tractions(grid, poisson_ratio, curvature, radius)
+    c = big.centres
+    kx, ky = curvature
+    depth = 0.5 * (kx * c[:, 0] ** 2 + ky * c[:, 1] ** 2)
+    inside = (np.hypot(c[:, 0], c[:, 1]) <= radius) & (depth > 1e-6 * 0.5 * min(grid.dx,
+                                                                               grid.dy))
     op = HalfSpaceOperator(big, Compliance.half_space(shear_modulus, poisson_ratio))
     u = np.stack([op.matvec(t[:, :, j]) for j in range(3)], axis=-1)  # (cells, comp, dir)
     # the body's surface lies `depth` inside the half-space tangent at the
@@ -127,6 +146,91 @@ def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
                                    - point_load_displacements(plane, shear_modulus,
                                                               poisson_ratio))
     return u.reshape(2 * nx - 1, 2 * ny - 1, 3, 3)
+
+
+def _inside(g: Grid, xy: np.ndarray) -> np.ndarray:
+    """Whether frame points ``xy`` (m, 2) lie on the grid."""
+    lo = np.array(g.origin)
+    hi = lo + [g.nx * g.dx, g.ny * g.dy]
+    return np.all((xy >= lo) & (xy < hi), axis=1)
+
+
+def _cell_of(g: Grid, xy: np.ndarray) -> np.ndarray:
+    """The index of the cell holding each frame point ``xy`` (m, 2)."""
+    r = xy - np.array(g.origin)
+    i = np.clip(np.floor(r[:, 0] / g.dx).astype(int), 0, g.nx - 1)
+    j = np.clip(np.floor(r[:, 1] / g.dy).astype(int), 0, g.ny - 1)
+    return i * g.ny + j
+
+
+#: Nodes farther from the loaded cells' centre than this many times their
+#: radius see the tractions lumped on blocks of cells (a relative error of
+#: about (block / distance)² / 12, below 1e-4 for blocks of an eighth of the
+#: radius).
+FAR = 3.0
+
+
+def _half_space_field(X: np.ndarray, cells: np.ndarray, tl: np.ndarray, g: Grid,
+                      shear_modulus: float, poisson_ratio: float,
+                      stress_at: np.ndarray | None = None):
+    """The half-space field of the cells' uniform tractions ``tl`` (n, 3,
+    local) at local points ``X`` (N, 3), depth z ≥ 0: displacement (N, 3) and
+    stress (N, 6) (Voigt xx, yy, zz, xy, yz, xz; at the points ``stress_at``
+    marks, default all, zero elsewhere).  Love's rectangles for the stress
+    and for the displacement of points within a cell of the contact plane;
+    point forces for the displacement deeper down; cells lumped on blocks
+    for points far away (:data:`FAR`)."""
+    N = X.shape[0]
+    u, sig = np.zeros((N, 3)), np.zeros((N, 6))
+    loaded = np.flatnonzero(np.any(tl != 0.0, axis=1))
+    if not loaded.size:
+        return u, sig
+    hx, hy = 0.5 * g.dx, 0.5 * g.dy
+    c, t = cells[loaded], tl[loaded]
+    centre = c.mean(axis=0)
+    radius = float(np.max(np.linalg.norm(c - centre, axis=1))) + max(g.dx, g.dy)
+    far = np.linalg.norm(X - centre, axis=1) > FAR * radius
+    B = max(1, int(radius / (8.0 * max(g.dx, g.dy))))
+    # the blocks of B x B cells: their resultant at their centre, uniform on them
+    ij = np.column_stack(np.unravel_index(loaded, g.shape)) // B
+    keys, inv = np.unique(ij, axis=0, return_inverse=True)
+    tb = np.zeros((keys.shape[0], 3))
+    np.add.at(tb, inv.ravel(), t)
+    cb = np.zeros((keys.shape[0], 3))
+    np.add.at(cb, inv.ravel(), c)
+    cb /= np.bincount(inv.ravel(), minlength=keys.shape[0])[:, None]
+    cb[:, 2] = 0.0
+    tb /= B * B  # the block's mean traction over its B² cells
+    compliance = Compliance.half_space(shear_modulus, poisson_ratio)
+    for idx, (src, trac, ax, ay) in ((np.flatnonzero(~far), (c, t, hx, hy)),
+                                     (np.flatnonzero(far), (cb, tb, B * hx, B * hy))):
+        if not idx.size:
+            continue
+        step = max(1, 200_000 // src.shape[0])
+        for k in range(0, idx.size, step):
+            rows = idx[k:k + step]
+            R = X[rows, None, :] - src[None, :, :]  # (m, L, 3)
+            depth = np.maximum(R[..., 2], 1e-6 * min(hx, hy))
+            want = np.ones(rows.size, dtype=bool) if stress_at is None else stress_at[rows]
+            if want.any():
+                s = rectangle_stresses(R[want, :, 0], R[want, :, 1], depth[want], ax, ay,
+                                       poisson_ratio)
+                sig[rows[want]] = np.einsum("mlcd,ld->mc", s, trac)
+            # within a cell of the plane: Love's rectangle; else a point force
+            shallow = (R[..., 2] < min(ax, ay)) & (np.hypot(R[..., 0], R[..., 1])
+                                                    < 4.0 * max(ax, ay))
+            Rp = np.where(shallow[..., None], [4.0 * max(ax, ay), 0.0, 0.0], R)
+            G = point_load_displacements(Rp.reshape(-1, 3), shear_modulus,
+                                         poisson_ratio).reshape(*R.shape, 3)
+            G[shallow] = 0.0
+            uu = (4.0 * ax * ay) * np.einsum("mlcd,ld->mc", G, trac)
+            if shallow.any():
+                m_, l_ = np.nonzero(shallow)
+                blk = blocks_from_integrals(rectangle_integrals(R[m_, l_, 0], R[m_, l_, 1],
+                                                                ax, ay), compliance)
+                np.add.at(uu, m_, np.einsum("pcd,pd->pc", blk, trac[l_]))
+            u[rows] = uu
+    return u, sig
 
 
 def chebyshev_points(p: int) -> np.ndarray:
@@ -206,6 +310,7 @@ class BodyCorrection:
         # about each source: the coarse data leave out what lies within it
         self.near_radius = min((grid.nx - 1) * grid.dx, (grid.ny - 1) * grid.dy)
         self._near = None
+        self._near_kernel = None  # the near field's traction kernel, for fields()
         self.near_blocks = None
         if any(self.curvature):
             blocks = near_field_blocks(grid, self.G, self.nu, self.curvature, self.near_radius)
@@ -235,6 +340,13 @@ class BodyCorrection:
         lu = scipy.linalg.lu_factor(A, overwrite_a=True, check_finite=False)
         x = scipy.linalg.lu_solve(lu, BW, check_finite=False)
         u = np.where(known_u[:, None], W, x)  # (3N, 3 S): the remainder's displacement
+        # the anchors' whole responses (displacement, traction: global, per
+        # anchor and local direction), from which :meth:`fields` superposes
+        # the body's fields on its coarse mesh
+        P2 = anchors * anchors
+        self._responses = (u[:, : 3 * P2].reshape(-1, 3, P2, 3).copy(),
+                           np.where(known_u[:, None], x, W)[:, : 3 * P2]
+                           .reshape(-1, 3, P2, 3).copy())
         # back to local components at the fit nodes: (S, 3 dirs, nodes, 3)
         S = sources.shape[0]
         U = u.reshape(-1, 3, S, 3)  # (N, comp, S, dir) in global components
@@ -276,6 +388,11 @@ class BodyCorrection:
         self.seconds = time.perf_counter() - t0
 
     @property
+    def held(self) -> np.ndarray:
+        """(3N,) bool: the body's dofs of prescribed displacement (its supports)."""
+        return self._known
+
+    @property
     def estimate(self) -> float:
         """The correction's relative error estimate: the larger of the
         anchors' interpolation error at the check sources (largest entry)
@@ -299,7 +416,8 @@ class BodyCorrection:
     def _data(self, source_frame: np.ndarray) -> np.ndarray:
         """(3N, 3): the remainder problem's boundary values for a unit force
         at ``source_frame`` (x, y) along each local direction: −u_hs on the
-        prescribed-displacement dofs, −σ_hs·n elsewhere (global components)."""
+        prescribed-displacement dofs, −σ_hs·n elsewhere (global components;
+        on a curved face less the near field's share)."""
         s_local = np.array([source_frame[0], self.flip[1] * source_frame[1], 0.0])
         R = self._X - s_local
         u = point_load_displacements(R, self.G, self.nu)  # (N, 3, 3)
@@ -333,6 +451,72 @@ class BodyCorrection:
             sign = 1.0 if self.side == 2 else -1.0
             out = out + sign * self._near.matvec(sign * p * self.flip) * self.flip
         return out
+
+    def _near_field_load(self, tl: np.ndarray) -> tuple[Grid, np.ndarray]:
+        """The near field's share of a curved face's residual traction under
+        the cell tractions ``tl`` (n, 3, local), on the plane: the grid
+        extended by its width less a cell on every side, lumped into at most
+        about 64 × 64 cells (the coarse nodes it is read at lie a coarse
+        element apart), and the (cells, 3) local tractions on it."""
+        g = self.grid
+        if self._near_kernel is None:
+            _, k = near_field_tractions(g, self.nu, self.curvature, self.near_radius)
+            k = k.reshape(2 * g.nx - 1, 2 * g.ny - 1, 3, 3)
+            self._near_kernel = k[:, ::-1] if self.side == 1 else k
+        K = self._near_kernel
+        T = tl.reshape(g.nx, g.ny, 3)
+        te = np.stack([sum(scipy.signal.fftconvolve(T[:, :, d], K[:, :, c, d])
+                           for d in range(3)) for c in range(3)], axis=-1)
+        mx, my = te.shape[:2]  # 3 nx − 2, 3 ny − 2
+        L = max(1, math.ceil(max(mx, my) / 64))
+        px, py = -mx % L, -my % L
+        te = np.pad(te, ((0, px), (0, py), (0, 0))).reshape((mx + px) // L, L, (my + py) // L,
+                                                            L, 3).mean(axis=(1, 3))
+        E = Grid((g.origin[0] - (g.nx - 1) * g.dx, g.origin[1] - (g.ny - 1) * g.dy),
+                 te.shape[0], te.shape[1], L * g.dx, L * g.dy)
+        return E, te.reshape(-1, 3)
+
+    def fields(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(displacement, traction), each (N, 3) global components at the
+        body's functional nodes, of the frame tractions ``p`` (n, 3) on body
+        2 with the body's supports held: the half-space field of the grid's
+        tractions at the nodes' true positions, plus the remainder
+        superposed from the anchors' responses (the same interpolation in
+        the source as :meth:`low_rank`; a curved face's whole residual
+        traction in their data: at the coarse mesh's own nodes its
+        resolution is the one asked, and the near field that the grid needs
+        finer is not used).  The traction is the contact traction on the
+        contact face, zero on the other free surfaces and the reaction on
+        the supports."""
+        sign = 1.0 if self.side == 2 else -1.0
+        tl = sign * np.asarray(p, dtype=float) * self.flip  # on this body, local
+        g = self.grid
+        X, n = self._X, self._n
+        held = self._known.reshape(-1, 3).any(axis=1)  # only the supports need the stress
+        u_hs, sig = _half_space_field(X, self._cells_local(g.centres), tl, g, self.G, self.nu,
+                                      held)
+        w = g.cell_area * (self._L_cells.T @ tl)  # (p², 3)
+        U, T = self._responses
+        u = np.einsum("nkad,ad->nk", U, w)
+        t = np.einsum("nkad,ad->nk", T, w)
+        xy = X[:, :2] * self.flip[:2]  # frame (x, y) of the nodes
+        face = (n[:, 2] < -0.5) & _inside(g, xy)
+        ul = u_hs
+        if self._near is not None:  # the near field's share of the curved face's residual
+            E, te = self._near_field_load(tl)
+            u_near, sig_near = _half_space_field(X, self._cells_local(E.centres), te, E,
+                                                 self.G, self.nu, held)
+            ul, sig = ul + u_near, sig + sig_near
+        known = self._known.reshape(-1, 3)  # per global dof
+        applied = np.zeros_like(X)
+        applied[face] = tl[_cell_of(g, xy[face])]
+        to_global = self.axes.T * self.flip  # local -> global: v_g = A^T (flip v_l)
+        traction_hs = _voigt_times(sig[:, :, None], n)[:, :, 0] @ to_global.T
+        # the supports: the half-space field's traction and the remainder's
+        # reaction; the free surfaces: the tractions applied there
+        u_glob = ul @ to_global.T + u
+        t_glob = np.where(known, traction_hs + t, applied @ to_global.T)
+        return u_glob, t_glob
 
     def low_rank(self, p: np.ndarray) -> np.ndarray:
         """The remainder's part of :meth:`matvec` (rank ≤ 3 p² × 6)."""

@@ -195,6 +195,17 @@ def _targets(states1, states2, axes) -> tuple[np.ndarray, np.ndarray]:
     return force, shift
 
 
+def _translations(states1, states2, axes, d) -> np.ndarray:
+    """(2, 3) global: the rigid translation of each body's supports, the
+    prescribed components as given, the force-controlled ones from the
+    rigid displacement ``d`` (frame components) of body 2 relative to body 1."""
+    (U1, _), (U2, _) = states1, states2
+    rel = np.asarray(d, dtype=float) @ axes
+    u1 = np.where(np.isnan(U1), np.nan_to_num(U2) - rel, U1)
+    u2 = np.where(np.isnan(U2), u1 + rel, U2)
+    return np.stack([u1, u2])
+
+
 def _held(body, conditions):
     U, F = _supports(body, conditions)
     free = [c for c in range(3) if np.isnan(U[c]) and np.isnan(F[c])]
@@ -257,7 +268,8 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             break
     c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
     c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
-    targets = [_targets(_supports(b1, st[0]), _supports(b2, st[1]), axes) for st in states]
+    supports = [(_supports(b1, st[0]), _supports(b2, st[1])) for st in states]
+    targets = [_targets(s1_, s2_, axes) for s1_, s2_ in supports]
     fit_radius = min(r1, r2)
     m1, m2 = b1.material, b2.material
     pair_c = Compliance.pair(m1.shear_modulus, m1.poisson_ratio, m2.shear_modulus,
@@ -316,6 +328,7 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             prev_s = gi.d.copy()
             if report:
                 out.append(verified_state(gi, step.label or f"step {i + 1}", force))
+                out[-1].translations = _translations(*supports[i], axes, gi.d)
             else:
                 out.append(gi.state())
         return out, records, gi, solutions

@@ -17,7 +17,9 @@ from ..contact.verification import EPS
 from ..errors import ConvergenceError
 from ..halfspace import Grid
 from .correction import BodyCorrection
-from .stress import grid_stresses, grid_surface_points, grid_surface_stresses
+from ..bem.solution import BodySolution
+from .stress import (body_index, check_step, grid_stresses, grid_surface_points,
+                     grid_surface_stresses)
 
 
 @dataclass
@@ -42,6 +44,8 @@ class GridState:
     #: (n, 2) a rolling step's slip of body 2 relative to body 1 per rolled
     #: distance (frame t1, t2 components; zero in stick); None otherwise
     slip: np.ndarray | None = None
+    #: (2, 3) global: the rigid translation of body 1's and body 2's supports
+    translations: np.ndarray | None = None
 
 
 @dataclass
@@ -63,6 +67,8 @@ class GridResult:
     #: each body's contact surface ζ(ξ, η) in the frame: quartic coefficients
     #: (:func:`quartic_terms`), body 1's then body 2's
     surfaces: tuple = ()
+    #: the bodies' fields, computed once per body and step (:meth:`body_fields`)
+    _fields: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     #: how :meth:`stresses` computes them (said in the stress files' summary)
     stress_model: ClassVar[str] = ("the half-space field of the grid tractions below each "
                                    "body's contact surface")
@@ -82,6 +88,39 @@ class GridResult:
         """(n, 3) the points of ``body``'s surface where :meth:`surface_stresses`
         gives the stresses (:func:`~bemcontact.multiscale.stress.grid_surface_points`)."""
         return grid_surface_points(self, body)
+
+    def body_fields(self, body: str, step: int = -1) -> BodySolution:
+        """``body``'s displacement and traction at its own (coarse) mesh's
+        functional nodes at the end of load step ``step``, by superposition
+        (:meth:`~.correction.BodyCorrection.fields`: the half-space field of
+        the grid tractions, the body's remainder, its supports' rigid
+        translation); the traction is the contact traction on the contact
+        face and the reaction on the supports."""
+        check_step(self, step)
+        b = body_index(self, body)
+        key = (b, step % len(self.history))
+        if key not in self._fields:
+            s = self.history[key[1]]
+            c = self.corrections[b]
+            u, t = c.fields(s.p)
+            if s.translations is not None:
+                u = u + s.translations[b]
+            d = c.body.discretization
+            self._fields[key] = BodySolution(
+                points=d.points, normals=d.normals, displacement=u, traction=t,
+                weights=d.weights, region=d.region, region_names=c.body.mesh.region_names,
+                discretization=d)
+        return self._fields[key]
+
+    def reactions(self, step: int = -1) -> dict:
+        """Body name -> the resultant (3,) global of its supports' reactions
+        at the end of load step ``step`` (:meth:`body_fields`)."""
+        out = {}
+        for b, name in enumerate(self.names):
+            sol = self.body_fields(name, step)
+            known = self.corrections[b].held.reshape(-1, 3)
+            out[name] = (sol.weights[:, None] * np.where(known, sol.traction, 0.0)).sum(axis=0)
+        return out
 
     @property
     def converged(self) -> bool:

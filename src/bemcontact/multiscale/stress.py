@@ -29,7 +29,7 @@ from .surface import quartic_terms
 def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
     """(body index, (n, 3) = (ξ, η, depth below the body's contact surface))
     of global ``points`` (n, 3); depth > 0 inside the body."""
-    b = _body_index(result, body)
+    b = body_index(result, body)
     try:
         X = np.asarray(points, dtype=float)
     except (TypeError, ValueError):
@@ -53,7 +53,7 @@ def grid_stresses(result, body: str, points, step: int = -1) -> np.ndarray:
     """The stress tensor (n, 6) = (σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz), global
     components, tension positive, at global ``points`` (n, 3) inside ``body``
     at the end of load step ``step`` (an index into ``result.history``)."""
-    _check_step(result, step)
+    check_step(result, step)
     b, local = frame_depths(result, body, points)
     field, p = _field(result, b, step)
     return _global(result, b, _sum(field, result.grid, local, p))
@@ -95,8 +95,8 @@ def grid_surface_stresses(result, body: str, step: int = -1) -> np.ndarray:
     above or below the cell's centre), at the end of load step ``step``: the
     half-space field's limit at the surface (evaluated at a depth of 1e-9
     cells, by FFT), whose σ_iζ are the cell's tractions."""
-    _check_step(result, step)
-    b = _body_index(result, body)
+    check_step(result, step)
+    b = body_index(result, body)
     field, p = _field(result, b, step)
     g = result.grid
     return _global(result, b, field.layer(p, 1e-9 * min(g.dx, g.dy)).reshape(-1, 6))
@@ -105,20 +105,20 @@ def grid_surface_stresses(result, body: str, step: int = -1) -> np.ndarray:
 def grid_surface_points(result, body: str) -> np.ndarray:
     """(n, 3) global points of ``body``'s contact surface at the grid cells
     (where :func:`grid_surface_stresses` gives the stresses)."""
-    b = _body_index(result, body)
+    b = body_index(result, body)
     c = result.grid.centres
     zeta = quartic_terms(c[:, 0], c[:, 1]) @ result.surfaces[b]
     return result.origin + np.column_stack([c[:, :2], zeta]) @ result.axes
 
 
-def _body_index(result, body: str) -> int:
+def body_index(result, body: str) -> int:
     if body not in result.names:
         raise ConfigError(f"unknown body {body!r}; the bodies are {list(result.names)}",
                           location={"body": body})
     return result.names.index(body)
 
 
-def _check_step(result, step) -> None:
+def check_step(result, step) -> None:
     if (isinstance(step, bool) or not isinstance(step, (int, np.integer))
             or not -len(result.history) <= step < len(result.history)):
         raise ConfigError(f"step must index the {len(result.history)} load steps, got {step!r}",

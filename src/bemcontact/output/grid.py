@@ -15,6 +15,10 @@ full result:
 * ``grid.vtu``: the cells as quadrilaterals with those fields as cell data,
   and each body's surface stresses there (``<body>_stress``, 6 components,
   ``<body>_von_mises``, ``<body>_tresca``, ``<body>_max_principal``);
+* ``<body>.vtu`` (``<body>_body.vtu`` for a body named ``grid``): each
+  body's displacement and traction on its own (coarse) mesh at the last
+  step, by superposition (:meth:`~bemcontact.multiscale.pair.GridResult.
+  body_fields`);
 * the stress files of :mod:`bemcontact.output.stresses`;
 * ``grid_tractions.png``: pressure and tangential traction maps (with
   matplotlib).
@@ -32,7 +36,7 @@ import numpy as np
 from ..errors import ConfigError
 from ..multiscale.pair import GridResult
 from .rundir import RunDirectory
-from .vtu import write_vtu
+from .vtu import write_body_vtu, write_vtu
 from ..stresses import measures
 from .stresses import file_names, stress_fields, stress_summary, write_stress_files
 from .tables import write_csv
@@ -76,7 +80,7 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
     if opt.figures:
         require_matplotlib("write_grid_results: figures")
     files = ["summary.json"]
-    files += ["grid.vtu"] if opt.vtu else []
+    files += ["grid.vtu"] + [f"{_stem(n)}.vtu" for n in result.names] if opt.vtu else []
     files += ["grid.csv"] if opt.csv else []
     files += ["grid_tractions.png"] if opt.figures else []
     f = _fields(result)
@@ -105,10 +109,17 @@ def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirec
                 cells.update({f"{name}_{k}": v for k, v in measures(stress).items()})
             write_vtu(tmp / "grid.vtu", points, [("quad", quads)], {},
                        cell_data={k: [np.asarray(v)] for k, v in cells.items()})
+            for name in result.names:
+                write_body_vtu(tmp / f"{_stem(name)}.vtu", result.body_fields(name))
         if opt.figures:
             _figure(tmp / "grid_tractions.png", result, f, (problem_echo or {}).get("units"))
     out = pathlib.Path(rundir.given)
     return [out / name for name in files]
+
+
+def _stem(body: str) -> str:
+    """A body's VTU file stem: its name, unless that is the grid's."""
+    return f"{body}_body" if body == "grid" else body
 
 
 def _quads(result: GridResult):

@@ -134,7 +134,9 @@ def _vertices(n: int):
     return [("vertex", np.arange(n, dtype=np.int64)[:, None])]
 
 
-def _write_body_vtu(path: pathlib.Path, sol, stress=None) -> None:
+def write_body_vtu(path: pathlib.Path, sol, stress=None) -> None:
+    """A body's surface fields (a BodySolution: displacement, traction, normal,
+    weight; its surface stresses when given) on its mesh's elements."""
     d = sol.discretization
     fields = {
         "displacement": (sol.displacement, "mean"), "traction": (sol.traction, "mean"),
@@ -238,7 +240,7 @@ def write_state_vtus(directory: pathlib.Path, result: ContactResult, suffix: str
     files = result_layout(result) if files is None else files
     stress = _surface_stresses(result)
     for sol, name, n in zip(result.bodies, result.names, files.bodies):
-        _write_body_vtu(directory / f"{n}{suffix}.vtu", sol, stress.get(name))
+        write_body_vtu(directory / f"{n}{suffix}.vtu", sol, stress.get(name))
         if f"{n}_volume" in files.volumes:
             points, cells, point_data, cell_data = result.models[name].volume_fields(sol)
             write_vtu(directory / f"{n}_volume{suffix}.vtu", points, cells, point_data,
@@ -271,4 +273,5 @@ def write_pvd(path: pathlib.Path, entries: list[tuple[float, str]]) -> None:
     path.write_text("\n".join(lines) + "\n")
 
 
-__all__ = ["frame_cells", "geometric_values", "region_field_data", "write_state_vtus", "write_pvd"]
+__all__ = ["frame_cells", "geometric_values", "region_field_data", "write_body_vtu",
+           "write_state_vtus", "write_pvd"]

@@ -34,9 +34,10 @@ def test_the_contact_plane_and_the_shapes_come_from_the_coarse_meshes(full_spher
     """The apex found to 2e-4 mm (a fifth of the finest coarse element is
     0.1 mm; the quartic fits of the nodes locate it to measured 1.4e-4), the
     normal z, the sphere's curvature 1/R within 0.5 % (measured 0.07 %), the
-    block's zero to 1e-12; the force within 1 % of the full path at a/h = 8
-    (measured +0.45 %: docs/validation.md, the curved face's near field), the
-    checks of the contact conditions met."""
+    block's zero to 1e-12; the force (cells of a/25) within 0.5 % of the full
+    path's at a/h = 8 (measured −0.27 %; that reference is itself about 0.15 %
+    above the full path's converged force: docs/validation.md), the checks of
+    the contact conditions met."""
     res = solve_on_grid(coarse_sphere_on_block())
     assert np.linalg.norm(res.origin) < 2e-4
     assert np.allclose(res.axes, np.eye(3))
@@ -44,7 +45,7 @@ def test_the_contact_plane_and_the_shapes_come_from_the_coarse_meshes(full_spher
     assert np.allclose(sphere.curvature, 0.1, rtol=5e-3)
     assert np.abs(block.curvature).max() < 1e-12
     P_full = full_sphere_on_block[0]
-    assert abs(res.history[-1].force[2] / P_full - 1.0) < 0.01
+    assert abs(res.history[-1].force[2] / P_full - 1.0) < 0.005
     s = res.summary()
     assert s["steps"][0]["rigid_displacement"] == pytest.approx([0.0, 0.0, -0.03])
     assert all(c["worst"] <= c["tolerance"] for c in s["steps"][0]["verification"].values())
@@ -82,7 +83,7 @@ grid_size = 0.04
 def test_run_with_method_multiscale_writes_the_grid_files(tmp_path, capsys, full_sphere_on_block):
     """``bemcontact run`` on the Hertz example with ``method = "multiscale"``
     and coarse meshes: exit 0, the line that says the grid solved it, the
-    grid's files, and in summary.json the method with its applicability
+    grid's files (each body's too), and in summary.json the method with its applicability
     checks, the corrections' estimates and a normal force within 1 % of the
     full path's at a/h = 8."""
     path = tmp_path / "hertz.toml"
@@ -92,7 +93,14 @@ def test_run_with_method_multiscale_writes_the_grid_files(tmp_path, capsys, full
     text = capsys.readouterr().out
     assert 'contact.method = "multiscale": the contact grid' in text
     names = {p.name for p in out.iterdir()}
-    assert {"summary.json", "grid.csv", "grid.vtu"} <= names
+    assert {"summary.json", "grid.csv", "grid.vtu", "block.vtu", "sphere.vtu"} <= names
+    # each body's fields on its own mesh (tests/unit/multiscale/test_result.py):
+    # the sphere's platen moved by its prescribed 0.03 mm, its apex less
+    import meshio
+
+    sphere = meshio.read(out / "sphere.vtu")
+    uz = sphere.point_data["displacement"][:, 2]
+    assert uz.min() == pytest.approx(-0.03, abs=1e-6) and -0.03 < uz.max() < -0.01
     s = json.loads((out / "summary.json").read_text())
     assert s["method"]["used"] == "multiscale" and s["method"]["requested"] == "multiscale"
     assert all(c["holds"] for c in s["method"]["applicability"].values())
