@@ -266,16 +266,19 @@ def test_make_block_mesh_script_writes_the_committed_mesh(tmp_path):
 
 def test_cattaneo_mindlin_multiscale_example(tmp_path):
     """examples/cattaneo_mindlin_multiscale.toml: solved on the contact grid,
-    P = 2,635.9 N (a regression check to 1e-3, as for the two cubes; its
+    P = 2,633.6 N (a regression check to 1e-3, as for the two cubes; its
     accuracy against the full path is tests/unit/multiscale's), the platen's
-    396 N carried to 1e-9, and the stick radius (the stick cells' area) within
-    1 % of Mindlin's for that P (measured +0.55 %)."""
+    396 N carried to 1e-9 along x (the lateral force, which the held y
+    leaves free, is the coarse flat-triangle sphere's asymmetry: measured
+    0.026 N, asserted 1e-4 of Q), and the stick radius (the stick cells' area) within
+    1 % of Mindlin's for that P (measured +0.61 %)."""
     s = _run("cattaneo_mindlin_multiscale.toml", tmp_path / "out")
     assert s["method"]["used"] == "multiscale"
     last = s["steps"][-1]
     P = last["normal_force"]
-    assert P == pytest.approx(2635.94, rel=1e-3)
-    assert last["tangential_force"] == pytest.approx(396.0, rel=1e-9)
+    assert P == pytest.approx(2633.59, rel=1e-3)
+    assert last["contact_force"][0] == pytest.approx(-396.0, rel=1e-9)
+    assert abs(last["contact_force"][1]) < 1e-4 * 396.0
     E_star = 210e3 / (2.0 * (1.0 - 0.3**2))
     a = (3.0 * P * 10.0 / (4.0 * E_star)) ** (1.0 / 3.0)
     c_exact = a * (1.0 - 396.0 / (0.3 * P)) ** (1.0 / 3.0)
