@@ -311,11 +311,22 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
                 t = k / n_inc
                 f = np.where(np.isnan(force), np.nan, prev_f + t * (np.nan_to_num(force) - prev_f))
                 s = prev_s + t * (shift - prev_s)
-                guess = None
+                guess, predicted = None, False
                 if coarse is not None and not np.any(gi.p[:, 2] > 0.0):
                     cg, (cp, cd) = coarse[0], coarse[1][len(solutions)]
                     guess = (_prolong(cg, cp, grid), cd)
+                elif k >= 2 and rolling is None:
+                    # equal increments of one step: Newton starts from the
+                    # secant extrapolation of the last two solutions (the
+                    # law's history stays the last converged state's);
+                    # measured at a/h = 100, the tangential increments took
+                    # 7 Newton iterations instead of 13
+                    (p1, d1), (p0, d0) = solutions[-1], solutions[-2]
+                    guess, predicted = (2.0 * p1 - p0, 2.0 * d1 - d0), True
                 rec = gi.solve_increment(f, s, guess, rolling)
+                if predicted and not rec.converged:  # again from the last solution
+                    gi.p, gi.d = p1.copy(), d1.copy()
+                    rec = gi.solve_increment(f, s, None, rolling)
                 solutions.append((gi.p.copy(), gi.d.copy()))
                 records.append(rec)
                 if not rec.converged:
