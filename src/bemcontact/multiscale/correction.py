@@ -482,12 +482,12 @@ class BodyCorrection:
         2 with the body's supports held: the half-space field of the grid's
         tractions at the nodes' true positions, plus the remainder
         superposed from the anchors' responses (the same interpolation in
-        the source as :meth:`low_rank`; a curved face's whole residual
-        traction in their data: at the coarse mesh's own nodes its
-        resolution is the one asked, and the near field that the grid needs
-        finer is not used).  The traction is the contact traction on the
-        contact face, zero on the other free surfaces and the reaction on
-        the supports."""
+        the source as :meth:`low_rank`), plus for a curved face the
+        half-space field of the near field's share of its residual traction
+        (:meth:`_near_field_load`, on the tangent plane: first order in the
+        face's slope).  The traction is the contact traction on the contact
+        face, zero on the other free surfaces and the half-space field's
+        traction plus the remainder's reaction on the supports."""
         sign = 1.0 if self.side == 2 else -1.0
         tl = sign * np.asarray(p, dtype=float) * self.flip  # on this body, local
         g = self.grid

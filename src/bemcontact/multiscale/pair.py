@@ -82,15 +82,21 @@ class GridOptions:
 
 def contact_plane(b1, s1: str, b2, s2: str) -> tuple[np.ndarray, np.ndarray]:
     """(origin (3,), axes (3, 3) rows t1, t2, n): the midpoint of the two
-    contact surfaces' closest nodes and body 1's normal there (from body 1
-    into body 2), which must lie along a coordinate axis."""
+    contact surfaces' closest nodes and the normal there (from body 1 into
+    body 2) of the plane fitted to the flatter surface's 12 nodes nearest
+    to it (a curved surface's closest node need not be its apex), which must
+    lie along a coordinate axis."""
     P1 = b1.discretization.points[region_nodes(b1, s1)]
     P2 = b2.discretization.points[region_nodes(b2, s2)]
     dist, j = scipy.spatial.cKDTree(P2).query(P1)
     i = int(np.argmin(dist))
     x0 = 0.5 * (P1[i] + P2[j[i]])
-    near = P1[scipy.spatial.cKDTree(P1).query(P1[i], k=min(12, len(P1)))[1]]
-    n = np.linalg.svd(near - near.mean(axis=0))[2][-1]
+    fits = []
+    for P in (P1, P2):
+        near = P[scipy.spatial.cKDTree(P).query(x0, k=min(12, len(P)))[1]]
+        _, sv, vt = np.linalg.svd(near - near.mean(axis=0))
+        fits.append((sv[-1] / max(sv[0], 1e-300), vt[-1]))
+    n = min(fits, key=lambda f: f[0])[1]
     c1 = b1.discretization.points.mean(axis=0)
     c2 = b2.discretization.points.mean(axis=0)
     if (c2 - c1) @ n < 0:
