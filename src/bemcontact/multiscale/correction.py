@@ -90,14 +90,16 @@ def near_share(r: np.ndarray, radius: float) -> np.ndarray:
 
 
 def near_field_tractions(grid: Grid, poisson_ratio: float, curvature: tuple[float, float],
-                         radius: float) -> tuple[Grid, np.ndarray]:
-    """The (2nx − 1) × (2ny − 1) window of cell offsets (a :class:`Grid`
-    centred on the loaded cell) and (cells, 3, 3) the near field's share
+                         radius: float):
+    """(window, t, depth, inside): the (2nx − 1) × (2ny − 1) window of cell
+    offsets (a :class:`Grid` centred on the loaded cell), (cells, 3, 3) the
+    near field's share
     (:func:`near_share`) of the residual traction −σ_hs·n (local components,
     per unit traction on the loaded cell along each local direction) that
     the half-space field of a cell leaves on a surface curved as
     ``curvature`` (κ_x, κ_y: depth ½ (κ_x x² + κ_y y²) from the plane
-    tangent at the loaded cell) within ``radius`` of it."""
+    tangent at the loaded cell) within ``radius`` of it, the surface's depth
+    at the window's cells and the cells within the radius that carry it."""
     nx, ny = grid.shape
     big = Grid.centred(2 * nx - 1, 2 * ny - 1, grid.dx, grid.dy)
     c = big.centres
@@ -112,7 +114,7 @@ def near_field_tractions(grid: Grid, poisson_ratio: float, curvature: tuple[floa
     sig = rectangle_stresses(c[inside, 0], c[inside, 1], depth[inside], hx, hy, poisson_ratio)
     t[inside] = -_voigt_times(sig, n_out[inside]) * near_share(
         np.hypot(c[inside, 0], c[inside, 1]), radius)[:, None, None]
-    return big, t
+    return big, t, depth, inside
 
 
 def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
@@ -126,12 +128,8 @@ def near_field_blocks(grid: Grid, shear_modulus: float, poisson_ratio: float,
     less on the plane).  First order in κ a; for a surface of uniform
     curvature it depends on the offset only."""
     nx, ny = grid.shape
-    big, t = near_field_tractions(grid, poisson_ratio, curvature, radius)
+    big, t, depth, inside = near_field_tractions(grid, poisson_ratio, curvature, radius)
     c = big.centres
-    kx, ky = curvature
-    depth = 0.5 * (kx * c[:, 0] ** 2 + ky * c[:, 1] ** 2)
-    inside = (np.hypot(c[:, 0], c[:, 1]) <= radius) & (depth > 1e-6 * 0.5 * min(grid.dx,
-                                                                               grid.dy))
     op = HalfSpaceOperator(big, Compliance.half_space(shear_modulus, poisson_ratio))
     u = np.stack([op.matvec(t[:, :, j]) for j in range(3)], axis=-1)  # (cells, comp, dir)
     # the body's surface lies `depth` inside the half-space tangent at the
@@ -460,7 +458,7 @@ class BodyCorrection:
         element apart), and the (cells, 3) local tractions on it."""
         g = self.grid
         if self._near_kernel is None:
-            _, k = near_field_tractions(g, self.nu, self.curvature, self.near_radius)
+            _, k, _, _ = near_field_tractions(g, self.nu, self.curvature, self.near_radius)
             k = k.reshape(2 * g.nx - 1, 2 * g.ny - 1, 3, 3)
             self._near_kernel = k[:, ::-1] if self.side == 1 else k
         K = self._near_kernel
@@ -492,7 +490,8 @@ class BodyCorrection:
         tl = sign * np.asarray(p, dtype=float) * self.flip  # on this body, local
         g = self.grid
         X, n = self._X, self._n
-        held = self._known.reshape(-1, 3).any(axis=1)  # only the supports need the stress
+        known = self._known.reshape(-1, 3)  # per global dof
+        held = known.any(axis=1)  # only the supports need the stress
         u_hs, sig = _half_space_field(X, self._cells_local(g.centres), tl, g, self.G, self.nu,
                                       held)
         w = g.cell_area * (self._L_cells.T @ tl)  # (p², 3)
@@ -507,7 +506,6 @@ class BodyCorrection:
             u_near, sig_near = _half_space_field(X, self._cells_local(E.centres), te, E,
                                                  self.G, self.nu, held)
             ul, sig = ul + u_near, sig + sig_near
-        known = self._known.reshape(-1, 3)  # per global dof
         applied = np.zeros_like(X)
         applied[face] = tl[_cell_of(g, xy[face])]
         to_global = self.axes.T * self.flip  # local -> global: v_g = A^T (flip v_l)
