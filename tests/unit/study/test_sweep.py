@@ -304,8 +304,19 @@ def test_interrupted_then_resumed(tmp_path, client, swept):
     finished = read_table(out / "table.csv")
     assert len(finished) == 1 and finished[0]["status"] == "ok"
     assert len(list((out / "records").glob("*.json"))) == 1
+    # a command interrupted ends its process and the points it ran; this
+    # client's in-process workers go on with the cancelled points that had
+    # started, which would write the same point directories as the resumed
+    # run: wait for them (measured: one fresh-clone run in four on a loaded
+    # 2-core machine raced there)
+    import time
+
+    deadline = time.monotonic() + 120.0
+    while any(client.processing().values()) and time.monotonic() < deadline:
+        time.sleep(0.1)
     result = run_sweep(path, out, vary=VARY, client=client)
     assert (result.computed, result.resumed) == (3, 1)
+    assert all(r["status"] == "ok" for r in result.rows), result.rows
     assert [r["normal_force"] for r in result.rows] == pytest.approx(
         [r["normal_force"] for r in ref.rows], rel=1e-10, abs=0)
 
