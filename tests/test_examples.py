@@ -287,6 +287,32 @@ def test_cattaneo_mindlin_multiscale_example(tmp_path):
     assert c == pytest.approx(c_exact, rel=0.01)
 
 
+def test_two_indenters_multiscale_example(tmp_path):
+    """examples/two_indenters_multiscale.toml: an assembly on the contact
+    grid, one grid per pair coupled through the block, in 4 increments.
+    P = 2,600.6 N and 1,371.1 N (a regression check to 1e-3, as for the two cubes; the
+    coupling's accuracy is tests/unit/multiscale/test_assembly.py's), each
+    pair's files under its stem and every body's once, the sweeps settled
+    (every step's coupling check holds)."""
+    out = tmp_path / "out"
+    s = _run("two_indenters_multiscale.toml", out)
+    assert s["method"]["used"] == "multiscale"
+    P = [p["steps"][-1]["normal_force"] for p in s["pairs"]]
+    assert P == [pytest.approx(2600.64, rel=1e-3), pytest.approx(1371.14, rel=1e-3)]
+    # each indenter pulled toward the other (the block's surface moves toward
+    # each contact under the other's load)
+    fx = [p["steps"][-1]["contact_force"][0] for p in s["pairs"]]
+    assert fx[0] > 0.0 > fx[1]
+    assert [p["files"] for p in s["pairs"]] == ["block+left", "block+right"]
+    for p in s["pairs"]:
+        check = p["steps"][-1]["verification"]["coupling"]
+        assert check["worst"] <= check["tolerance"]
+        assert (out / f"{p['files']}_grid.csv").is_file()
+    assert [c["body"] for c in s["couplings"]] == ["block", "block"]
+    assert s["sweeps"][-1] <= 0.01 < s["sweeps"][0]
+    assert all((out / f"{b}.vtu").is_file() for b in ("block", "left", "right"))
+
+
 def test_rolling_ball_multiscale_example(tmp_path):
     """examples/rolling_ball_multiscale.toml: steady rolling on the contact
     grid.  F_x = 64.32 N (a regression check to 1e-3, as for the two cubes;

@@ -15,6 +15,12 @@ example problem file solved as the command solves it (ProblemFile.solve and
 * ``gallery_bearing_profile.png``: the upper pair's
   ``ball+upper_frame_profile.png`` of examples/thrust_bearing_ball.toml, an
   assembly (needs gmsh; about 40 s).
+* ``gallery_multiscale_grid.png``, ``gallery_rolling_grid.png``,
+  ``gallery_two_indenters_grid.png``: grid_tractions.png of
+  examples/cattaneo_mindlin_multiscale.toml and rolling_ball_multiscale.toml,
+  and the right pair's ``block+right_grid_tractions.png`` of
+  two_indenters_multiscale.toml, on the contact grid (needs gmsh; about 5 s
+  each).
 
 The other gallery figures are docs/validation.md's
 (``make_validation_figures.py``).
@@ -43,6 +49,11 @@ GALLERY = {
                                              "stresses_block.png": "gallery_hertz_stresses.png"}),
     "bearing": ("thrust_bearing_ball.toml",
                 {"ball+upper_frame_profile.png": "gallery_bearing_profile.png"}),
+    "multiscale": ("cattaneo_mindlin_multiscale.toml",
+                   {"grid_tractions.png": "gallery_multiscale_grid.png"}),
+    "rolling": ("rolling_ball_multiscale.toml", {"grid_tractions.png": "gallery_rolling_grid.png"}),
+    "two_indenters": ("two_indenters_multiscale.toml",
+                      {"block+right_grid_tractions.png": "gallery_two_indenters_grid.png"}),
 }
 
 
@@ -55,9 +66,14 @@ def make(name: str, out: pathlib.Path) -> list[pathlib.Path]:
         made = []
         for src, dst in figures.items():
             made.append(pathlib.Path(shutil.copy(pathlib.Path(tmp) / "run" / src, out / dst)))
-    forces = ", ".join(f"{p.normal_force:.6g}" for p in result.pairs)
-    print(f"{toml}: normal force(s) {forces}, frame {result.frame.counts()}; "
-          + ", ".join(p.name for p in made))
+    if hasattr(result, "frame"):  # the full path
+        forces = ", ".join(f"{p.normal_force:.6g}" for p in result.pairs or [result])
+        where = f"frame {result.frame.counts()}"
+    else:  # the contact grid (an assembly: a grid per pair)
+        grids = getattr(result, "pairs", None) or [result]
+        forces = ", ".join(f"{g.history[-1].force[2]:.6g}" for g in grids)
+        where = "the contact grid"
+    print(f"{toml}: normal force(s) {forces}, {where}; " + ", ".join(p.name for p in made))
     return made
 
 

@@ -109,10 +109,13 @@ class ContactPair:
         "method", "string", "how the pair is solved: `full` (both bodies condensed on the "
         "frame at the contact's resolution), `multiscale` (the contact zone on a regular grid: "
         "the pair's half-space operator plus each body's correction from its own, coarse, "
-        "mesh; two bodies loaded through rigid supports and platen forces) or `auto` "
+        "mesh; bodies loaded through rigid supports and platen forces; an assembly: one "
+        "grid per pair, coupled through the bodies they share) or `auto` "
         "(`full` when both meshes have 4 or more elements per contact half-width at the "
         "contact, else `multiscale` where it applies and its error estimate is small, else "
-        "`full`; the choice is said in one line)", default="auto", choices=METHODS))
+        "`full`; the choice is said in one line).  An assembly's pairs follow one method: "
+        "`full` if any pair asks for it, else `multiscale` if any does, else `auto`",
+        default="auto", choices=METHODS))
     grid_size: float | None = setting(Key(
         "grid_size", "number", "the cell size (a length) of the multiscale contact grid",
         default=None, lo=0, lo_open=True,

@@ -246,7 +246,7 @@ def lagrange_weights(nodes: np.ndarray, t: np.ndarray) -> np.ndarray:
     return L
 
 
-def _basis(xy: np.ndarray, centre: np.ndarray, scale: float) -> np.ndarray:
+def quadratic_basis(xy: np.ndarray, centre: np.ndarray, scale: float) -> np.ndarray:
     """(m, 6) the quadratic monomials of the scaled local position."""
     u = (xy[:, 0] - centre[0]) / scale
     v = (xy[:, 1] - centre[1]) / scale
@@ -263,11 +263,14 @@ class BodyCorrection:
     grid (in that frame); ``anchors`` p (p × p Chebyshev sources over the
     grid); ``fit_radius`` the radius (frame plane) of the nodes the
     remainder is fitted on (default twice the grid's half-diagonal, at
-    least the 24 nearest nodes)."""
+    least the 24 nearest nodes).  ``deferred``: the coarse solve is left
+    to :func:`solve_together` (the body's corrections on several grids, an
+    assembly's shared body, in one factorization); the correction is usable
+    after it."""
 
     def __init__(self, body, side: int, origin, axes, grid: Grid, anchors: int = 3,
                  fit_radius: float | None = None, threads: int | None = None,
-                 curvature: tuple[float, float] = (0.0, 0.0)) -> None:
+                 curvature: tuple[float, float] = (0.0, 0.0), deferred: bool = False) -> None:
         if side not in (1, 2):
             raise ConfigError(f"BodyCorrection: side must be 1 or 2, got {side!r}")
         if not (isinstance(anchors, int) and 2 <= anchors <= 8):
@@ -300,6 +303,9 @@ class BodyCorrection:
         anchors_frame = np.stack([sx.ravel(), sy.ravel()], axis=1)
         checks_frame = mid + half * np.array([[0.37, -0.61], [-0.83, 0.29]])
         sources = np.vstack([anchors_frame, checks_frame])
+        self._anchors_local = np.column_stack([anchors_frame[:, 0],
+                                               self.flip[1] * anchors_frame[:, 1],
+                                               np.zeros(anchors_frame.shape[0])])
         self._hw = 0.5 * min(grid.dx, grid.dy)
         # a curved contact face: its near field on the grid (Toeplitz), the
         # coarse data leaving out what it covers
@@ -331,12 +337,23 @@ class BodyCorrection:
             near[order[:24]] = True
         self._fit_nodes = np.flatnonzero(near)
         self.fit_radius = float(r_plane[self._fit_nodes].max())
-        # one coarse solve for every source and direction
-        W = np.concatenate([self._data(s) for s in sources], axis=1)
-        lin = LinearSolverOptions(method="dense")
-        A, BW, _, _ = body.mixed_system(known_u, W, lin, threads, border=0)
-        lu = scipy.linalg.lu_factor(A, overwrite_a=True, check_finite=False)
-        x = scipy.linalg.lu_solve(lu, BW, check_finite=False)
+        # one coarse solve for every source and direction (with deferred:
+        # with the other corrections of the body, :func:`solve_together`)
+        self._W = np.concatenate([self._data(s) for s in sources], axis=1)
+        self._sources, self._checks_frame, self._t0 = sources, checks_frame, t0
+        self._threads = threads
+        if not deferred:
+            solve_together([self])
+
+    def _finish(self, x: np.ndarray) -> None:
+        """The correction from its remainder problem's solution ``x`` (3N,
+        3 S: the unknown displacement or traction of every dof per source
+        and direction)."""
+        known_u, W, X = self._known, self._W, self._X
+        anchors, grid = self.p, self.grid
+        sources, checks_frame = self._sources, self._checks_frame
+        mid, half = self._mid_frame, self._half
+        del self._W
         u = np.where(known_u[:, None], W, x)  # (3N, 3 S): the remainder's displacement
         # the anchors' whole responses (displacement, traction: global, per
         # anchor and local direction), from which :meth:`fields` superposes
@@ -352,7 +369,7 @@ class BodyCorrection:
         xy = X[self._fit_nodes, :2]
         self._centre = np.array([mid[0], self.flip[1] * mid[1]])
         self._scale = float(np.hypot(*half))
-        Phi = _basis(xy, self._centre, self._scale)
+        Phi = quadratic_basis(xy, self._centre, self._scale)
         coef, *_ = np.linalg.lstsq(Phi, Ul.reshape(S * 3, -1, 3).transpose(1, 0, 2)
                                    .reshape(xy.shape[0], -1), rcond=None)
         fitted = Phi @ coef
@@ -361,7 +378,7 @@ class BodyCorrection:
         self._coef = coef[:, : anchors * anchors]
         # the estimates: the anchors' interpolant at the check sources, and the fit
         cells = self._cells_local(grid.centres)
-        Phi_g = _basis(cells[:, :2], self._centre, self._scale)
+        Phi_g = quadratic_basis(cells[:, :2], self._centre, self._scale)
         direct = np.einsum("im,msdc->sidc", Phi_g, coef[:, anchors * anchors:])
         Lc = self._source_weights(checks_frame)
         interp = np.einsum("sa,im,madc->sidc", Lc, Phi_g, self._coef)
@@ -383,7 +400,12 @@ class BodyCorrection:
         self.fit_error = float(np.sqrt(np.mean(resid**2))) / self.whole
         self._Phi_cells = Phi_g
         self._L_cells = self._source_weights(grid.centres[:, :2])
-        self.seconds = time.perf_counter() - t0
+        self.seconds = time.perf_counter() - self._t0
+
+    @property
+    def centre(self) -> np.ndarray:
+        """(3,) global: the centre of the grid the correction is made on."""
+        return self.origin + np.append(self._mid_frame, 0.0) @ self.axes
 
     @property
     def held(self) -> np.ndarray:
@@ -494,7 +516,7 @@ class BodyCorrection:
         held = known.any(axis=1)  # only the supports need the stress
         u_hs, sig = _half_space_field(X, self._cells_local(g.centres), tl, g, self.G, self.nu,
                                       held)
-        w = g.cell_area * (self._L_cells.T @ tl)  # (p², 3)
+        w = self.source_loads(p)  # (p², 3)
         U, T = self._responses
         u = np.einsum("nkad,ad->nk", U, w)
         t = np.einsum("nkad,ad->nk", T, w)
@@ -519,11 +541,56 @@ class BodyCorrection:
     def low_rank(self, p: np.ndarray) -> np.ndarray:
         """The remainder's part of :meth:`matvec` (rank ≤ 3 p² × 6)."""
         sign = 1.0 if self.side == 2 else -1.0
-        tl = sign * p * self.flip  # the traction on this body, local
-        w = self.grid.cell_area * (self._L_cells.T @ tl)  # (p², 3)
-        ul = self._Phi_cells @ np.einsum("ad,madc->mc", w, self._coef)
+        ul = self._Phi_cells @ np.einsum("ad,madc->mc", self.source_loads(p), self._coef)
         return sign * ul * self.flip
+
+    def source_loads(self, p: np.ndarray) -> np.ndarray:
+        """(p², 3) the forces (local components) at the anchors that stand
+        for the frame tractions ``p`` (n, 3) on body 2 in the source's
+        interpolation: this body's load, as :meth:`low_rank` and
+        :meth:`fields` take it."""
+        sign = 1.0 if self.side == 2 else -1.0
+        tl = sign * np.asarray(p, dtype=float) * self.flip  # the traction on this body, local
+        return self.grid.cell_area * (self._L_cells.T @ tl)
+
+    def node_responses(self, nodes: np.ndarray) -> np.ndarray:
+        """(m, 3, p², 3): the displacement (global components) at the body's
+        functional nodes ``nodes`` per unit force at each anchor along each
+        local direction, supports held: the half-space field of the point
+        force plus the remainder.  Far from the grid (another contact of the
+        body) it is smooth in the source, so :meth:`source_loads` carry a
+        grid's tractions to it."""
+        nodes = np.asarray(nodes, dtype=np.intp)
+        X = self._X[nodes]
+        out = self._responses[0][nodes].copy()
+        for a, s in enumerate(self._anchors_local):
+            G = point_load_displacements(X - s, self.G, self.nu)  # (m, comp, dir) local
+            out[:, :, a, :] += np.einsum("nkd,kj->njd", G * self.flip[None, :, None], self.axes)
+        return out
+
+
+def solve_together(corrections) -> None:
+    """The coarse solves of ``corrections`` (made ``deferred``): one
+    assembly and LU factorization per body for all its corrections' sources
+    (a body shared by an assembly's pairs has one correction per grid; the
+    mixed system depends on the body and its supports only)."""
+    groups: dict[int, list] = {}
+    for c in corrections:
+        groups.setdefault(id(c.body), []).append(c)
+    lin = LinearSolverOptions(method="dense")
+    for group in groups.values():
+        body = group[0].body
+        known_u = group[0]._known
+        W = np.concatenate([c._W for c in group], axis=1)
+        A, BW, _, _ = body.mixed_system(known_u, W, lin, group[0]._threads, border=0)
+        lu = scipy.linalg.lu_factor(A, overwrite_a=True, check_finite=False)
+        x = scipy.linalg.lu_solve(lu, BW, check_finite=False)
+        k = 0
+        for c in group:
+            m = c._W.shape[1]
+            c._finish(x[:, k:k + m])
+            k += m
 
 
 __all__ = ["BodyCorrection", "chebyshev_points", "lagrange_weights",
-           "point_load_displacements"]
+           "point_load_displacements", "quadratic_basis", "solve_together"]

@@ -9,10 +9,12 @@ Unknowns: the tractions ``p`` (n, 3) on body 2 per cell (global x, y, z =
 the law's t1, t2, n; p_z > 0 compressive) and the rigid displacement ``d``
 (3,) of body 2 relative to body 1; the relative displacement of the cells is
 
-    k = g0 e_z + d + C p        (k_z the gap, > 0 open)
+    k = g0 e_z + d + C p + o        (k_z the gap, > 0 open)
 
-with g0 the initial gap and C the pair's flexibility
-(:class:`~.operator.PairOperator`).  A component of ``d`` is prescribed, or
+with g0 the initial gap, C the pair's flexibility
+(:class:`~.operator.PairOperator`) and o what other pairs' tractions add
+through a shared body in an assembly (:attr:`GridInterface.offset`, zero
+for a pair alone).  A component of ``d`` is prescribed, or
 free with the contact force's component F = A Σ p prescribed (A the cell
 area).
 
@@ -89,6 +91,10 @@ class GridInterface:
         self.law.reference = np.zeros((n, 2))
         self.p = np.zeros((n, 3))
         self.d = np.zeros(3)
+        #: (n, 3) a relative displacement the cells see besides C p: the
+        #: other pairs' tractions through a shared body in an assembly
+        #: (:mod:`.assembly`); zero for a pair alone
+        self.offset = np.zeros((n, 3))
         self._pair_of = np.zeros(n, dtype=np.intp)
         #: the :class:`~.rolling.GridRolling` of the current increment (None:
         #: no rolling)
@@ -97,7 +103,7 @@ class GridInterface:
     # -- fields
     def k(self, p: np.ndarray, d: np.ndarray) -> np.ndarray:
         """(n, 3) relative displacements."""
-        k = self.op.matvec(p) + d
+        k = self.op.matvec(p) + d + self.offset
         k[:, 2] += self.gap
         return k
 
@@ -128,6 +134,22 @@ class GridInterface:
         return self.law.state(self.p, self.law_k(self.p, self.d))
 
     # -- one increment
+    def snapshot(self) -> tuple:
+        """The state an increment starts from (the solution, the offset and
+        the law's history), for :meth:`restore`: an increment solved again
+        (after a failed predictor, or in an assembly's next sweep) starts
+        from the same history, since :meth:`start_increment` moves it on."""
+        law = self.law
+        return (self.p.copy(), self.d.copy(), self.offset.copy(), law.mu.copy(),
+                law.anchors.copy(), law.reference.copy())
+
+    def restore(self, state: tuple) -> None:
+        """Back to a :meth:`snapshot`."""
+        p, d, offset, mu, anchors, reference = state
+        self.p, self.d, self.offset = p.copy(), d.copy(), offset.copy()
+        self.law.mu, self.law.anchors, self.law.reference = (mu.copy(), anchors.copy(),
+                                                             reference.copy())
+
     def start_increment(self, rolling=None) -> None:
         """The law's coefficients in effect and stick reference from the
         current solution (:meth:`~bemcontact.contact.law.CoulombLaw.start_increment`),
@@ -151,7 +173,7 @@ class GridInterface:
 
     def solve_increment(self, force: np.ndarray, shift: np.ndarray,
                         guess: tuple[np.ndarray, np.ndarray] | None = None,
-                        rolling=None) -> GridRecord:
+                        rolling=None, offset: np.ndarray | None = None) -> GridRecord:
         """Solve for the targets: per component, the contact force ``force``
         (3,) where it is finite, else the rigid displacement ``shift`` (3,).
         ``guess``: (tractions (n, 3), rigid displacement (3,)) to start
@@ -166,11 +188,15 @@ class GridInterface:
         ``rolling`` (a :class:`~.rolling.GridRolling`): the increment rolls.
         In steady state a tangential component's rigid displacement is the
         extra creepage times the cell size that carries its force where
-        ``force`` is finite, else zero (``shift`` is not used there)."""
-        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
-            return self._solve_increment(force, shift, guess, rolling)
+        ``force`` is finite, else zero (``shift`` is not used there).
 
-    def _solve_increment(self, force, shift, guess, rolling) -> GridRecord:
+        ``offset`` (n, 3): the :attr:`offset` of this increment (an
+        assembly's other pairs at their new load), in effect after the law's
+        history is taken (with the previous one, the converged state's)."""
+        with threadpoolctl.threadpool_limits(limits=1, user_api="blas"):
+            return self._solve_increment(force, shift, guess, rolling, offset)
+
+    def _solve_increment(self, force, shift, guess, rolling, offset) -> GridRecord:
         force = np.asarray(force, dtype=float)
         shift = np.asarray(shift, dtype=float)
         free = np.flatnonzero(np.isfinite(force))
@@ -178,6 +204,8 @@ class GridInterface:
         # the law's history from the state the increment starts from (the
         # converged one, at the previous load), then the new prescribed shift
         self.start_increment(rolling)
+        if offset is not None:
+            self.offset = np.asarray(offset, dtype=float).reshape(self.n, 3)
         if rolling is not None and rolling.steady:
             shift = shift.copy()
             shift[:2] = 0.0

@@ -241,76 +241,126 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
 def _solve_on_grid(problem, steps, options, solver) -> GridResult:
     t0 = time.perf_counter()
     opt = options or GridOptions(grid_size=getattr(problem.pairs[-1], "grid_size", None))
-    solver = solver or SolverOptions()
-    bodies = list(problem.bodies)
-    if len(bodies) != 2 or len(problem.pairs) != 1:
-        raise ConfigError("method = \"multiscale\" solves two bodies in one contact pair; use "
-                          "method = \"full\" for an assembly", location={"field": "contact.method"})
-    pair = problem.pairs[0]
-    if pair.penalty is not None:
-        solver = dataclasses.replace(solver, penalty=pair.penalty)
-    b1, b2 = (bodies[a] for a in problem.links[0])
-    s1, s2 = pair.surface1, pair.surface2
-    for b in (b1, b2):
-        if not hasattr(b, "mixed_system"):
-            raise ConfigError(f"{b.name}: method = \"multiscale\" needs a BEM body (its coarse "
-                              "model gives its correction)", location={"body": b.name})
-    steps = list(steps) if steps else [LoadStep()]
-    states = checked_states([b1, b2], [(s1,), (s2,)], steps)
-    for state in states:
-        for b, c in zip((b1, b2), state):
-            _held(b, c)
-    origin, axes = contact_plane(b1, s1, b2, s2)
-    # the closest nodes need not be the closest points of the surfaces (a
-    # sphere's apex above a coarse block's node): the gap of the fitted
-    # surfaces is minimized, and the fits are made again about its minimum
-    for _ in range(3):
+    if len(problem.bodies) != 2 or len(problem.pairs) != 1:
+        raise ConfigError("solve_on_grid solves two bodies in one contact pair; an assembly: "
+                          "bemcontact.multiscale.solve_assembly_on_grid",
+                          location={"field": "contact.method"})
+    setup = PairSetup(problem, 0, steps, solver)
+    half, coarse = setup.size(opt)
+    margin = opt.margin
+    for attempt in range(3):
+        t1 = time.perf_counter()
+        grid, corrections = setup.build(half, opt, margin)
+        t2 = time.perf_counter()
+        history, records, _, _ = setup.run(grid, corrections, report=True, coarse=coarse)
+        if not setup.reaches_edge(grid, history):
+            break
+        if attempt == 2:
+            raise ConfigError("method = \"multiscale\": the contact reaches the edge of the "
+                              f"contact grid ({grid.nx} x {grid.ny} cells of {grid.dx:.3g}) after "
+                              "two enlargements; use method = \"full\"",
+                              location={"field": "contact.method"})
+        margin *= 1.5
+    t3 = time.perf_counter()
+    return setup.result(grid, history, records, corrections,
+                        {"sizing": t1 - t0, "corrections": t2 - t1, "solve": t3 - t2,
+                         "total": t3 - t0})
+
+
+class PairSetup:
+    """One contact pair of ``problem`` (index ``index``) made ready for the
+    grid (steps 1-3 of the module docstring): its bodies, the contact plane,
+    the fitted surfaces, the supports and targets of every load step, the
+    pair's half-space compliance and friction; then :meth:`size` (step 4),
+    :meth:`build` and :meth:`run` (step 5).  An assembly
+    (:mod:`.assembly`) makes one per pair."""
+
+    def __init__(self, problem, index: int, steps, solver: SolverOptions | None) -> None:
+        solver = solver or SolverOptions()
+        pair = problem.pairs[index]
+        if pair.penalty is not None:
+            solver = dataclasses.replace(solver, penalty=pair.penalty)
+        self.pair, self.solver = pair, solver
+        b1, b2 = (problem.bodies[a] for a in problem.links[index])
+        s1, s2 = pair.surface1, pair.surface2
+        self.bodies, self.surfaces = (b1, b2), (s1, s2)
+        for b in (b1, b2):
+            if not hasattr(b, "mixed_system"):
+                raise ConfigError(f"{b.name}: method = \"multiscale\" needs a BEM body (its "
+                                  "coarse model gives its correction)", location={"body": b.name})
+        steps = list(steps) if steps else [LoadStep()]
+        self.steps = steps
+        states = checked_states([b1, b2], [(s1,), (s2,)], steps)
+        for state in states:
+            for b, c in zip((b1, b2), state):
+                _held(b, c)
+        origin, axes = contact_plane(b1, s1, b2, s2)
+        # the closest nodes need not be the closest points of the surfaces (a
+        # sphere's apex above a coarse block's node): the gap of the fitted
+        # surfaces is minimized, and the fits are made again about its minimum
+        for _ in range(3):
+            c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
+            c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
+            xy = _gap_minimum(c2 - c1, 0.8 * min(r1, r2))
+            moved = xy @ axes[:2] + 0.5 * (_poly(c1, xy) + _poly(c2, xy)) * axes[2]
+            origin = origin + moved
+            if np.linalg.norm(xy) <= 1e-9 * min(r1, r2):
+                break
         c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
         c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
-        xy = _gap_minimum(c2 - c1, 0.8 * min(r1, r2))
-        moved = xy @ axes[:2] + 0.5 * (_poly(c1, xy) + _poly(c2, xy)) * axes[2]
-        origin = origin + moved
-        if np.linalg.norm(xy) <= 1e-9 * min(r1, r2):
-            break
-    c1, r1, e1 = surface_fit(b1, s1, origin, axes, 4.0 * contact_spacing(b1, s1, origin))
-    c2, r2, e2 = surface_fit(b2, s2, origin, axes, 4.0 * contact_spacing(b2, s2, origin))
-    supports = [(_supports(b1, st[0]), _supports(b2, st[1])) for st in states]
-    targets = [_targets(s1_, s2_, axes) for s1_, s2_ in supports]
-    fit_radius = min(r1, r2)
-    m1, m2 = b1.material, b2.material
-    pair_c = Compliance.pair(m1.shear_modulus, m1.poisson_ratio, m2.shear_modulus,
-                             m2.poisson_ratio)
-    mu = float(pair.friction_coefficient)
-    for i, step in enumerate(steps):
-        if step.rolling is None:
-            continue
-        where = {"step": i, "field": "rolling"}
-        if mu == 0.0:
-            raise ConfigError(f"step[{i}].rolling: a frictionless pair: rolling carries no "
-                              "creep force without friction; give contact.friction_coefficient "
-                              "> 0", location=where)
-        try:  # the direction against the contact plane, before any solve
-            GridRolling(step.rolling, Grid.centred(4, 4, 1.0, 1.0), axes)
-        except ConfigError as exc:
-            raise ConfigError(f"step[{i}].{exc}", location={**exc.location, **where}) from None
+        self.origin, self.axes = origin, axes
+        self.fits = [(c1, e1), (c2, e2)]
+        self.fit_radius = min(r1, r2)
+        #: per step, each body's (U, F) (:func:`_supports`)
+        self.supports = [(_supports(b1, st[0]), _supports(b2, st[1])) for st in states]
+        self.targets = [_targets(s1_, s2_, axes) for s1_, s2_ in self.supports]
+        m1, m2 = b1.material, b2.material
+        self.compliance = Compliance.pair(m1.shear_modulus, m1.poisson_ratio,
+                                          m2.shear_modulus, m2.poisson_ratio)
+        mu = float(pair.friction_coefficient)
+        self.mu = mu
+        for i, step in enumerate(steps):
+            if step.rolling is None:
+                continue
+            where = {"step": i, "field": "rolling"}
+            if mu == 0.0:
+                raise ConfigError(f"step[{i}].rolling: a frictionless pair: rolling carries no "
+                                  "creep force without friction; give contact.friction_"
+                                  "coefficient > 0", location=where)
+            try:  # the direction against the contact plane, before any solve
+                GridRolling(step.rolling, Grid.centred(4, 4, 1.0, 1.0), axes)
+            except ConfigError as exc:
+                raise ConfigError(f"step[{i}].{exc}", location={**exc.location, **where}) from None
+        self.half = None
 
-    def gap_on(grid):
+    @property
+    def increments(self) -> int:
+        return sum(step.increments for step in self.steps)
+
+    def gap_on(self, grid: Grid) -> np.ndarray:
+        """(n,) the initial gap of the fitted surfaces at the grid's cells."""
         c = grid.centres
         V = quartic_terms(c[:, 0], c[:, 1])
-        return V @ c2 - V @ c1
+        return V @ self.fits[1][0] - V @ self.fits[0][0]
 
-    def run(grid, corrections, report, coarse=None):
+    def run(self, grid, corrections, report, coarse=None, offsets=None, guesses=None):
         """Every increment on ``grid``; one that starts with nothing in
         contact starts from the ``coarse`` grid's solution of it when given
         (grid sequencing: the fine Newton then starts with about the right
         contact patch; from a first touch, Newton at a/h = 100 cycled), the
-        others from the previous increment's solution.  Returns the states
-        (or GridStates with ``report``), the records, the interface and the
+        others from the previous increment's solution, or from ``guesses``
+        (per increment (p, d): an assembly's previous sweep) when given.
+        ``offsets`` (per increment (n, 3), or None): the relative
+        displacement the other pairs' tractions add
+        (:attr:`~.interface.GridInterface.offset`).  Returns the states (or
+        GridStates with ``report``), the records, the interface and the
         solution (p, d) of each increment."""
-        gi = GridInterface(PairOperator(grid, pair_c, corrections), gap_on(grid), mu, solver)
+        gi = GridInterface(PairOperator(grid, self.compliance, corrections), self.gap_on(grid),
+                           self.mu, self.solver)
         prev_f, prev_s = np.zeros(3), np.zeros(3)
         out, records, solutions = [], [], []
-        for i, ((force, shift), step) in enumerate(zip(targets, steps)):
+        axes = self.axes
+        for i, ((force, shift), step) in enumerate(zip(self.targets, self.steps)):
             n_inc = step.increments
             rolling = None if step.rolling is None else GridRolling(step.rolling, grid, axes)
             for k in range(1, n_inc + 1):
@@ -318,21 +368,29 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
                 f = np.where(np.isnan(force), np.nan, prev_f + t * (np.nan_to_num(force) - prev_f))
                 s = prev_s + t * (shift - prev_s)
                 guess, predicted = None, False
-                if coarse is not None and not np.any(gi.p[:, 2] > 0.0):
-                    cg, (cp, cd) = coarse[0], coarse[1][len(solutions)]
+                j = len(solutions)
+                if guesses is not None:
+                    guess, predicted = guesses[j], True
+                elif coarse is not None and not np.any(gi.p[:, 2] > 0.0):
+                    cg, (cp, cd) = coarse[0], coarse[1][j]
                     guess = (_prolong(cg, cp, grid), cd)
-                elif k >= 2 and rolling is None:
+                elif k >= 2 and rolling is None and j >= 2:
                     # equal increments of one step: Newton starts from the
-                    # secant extrapolation of the last two solutions (the
-                    # law's history stays the last converged state's);
-                    # measured at a/h = 100, the tangential increments took
-                    # 7 Newton iterations instead of 13
+                    # secant extrapolation of the last two solutions, the
+                    # step's start and its first increment at k = 2 (the
+                    # law's history stays the last converged state's; the
+                    # first step's start is the unloaded state, which has no
+                    # solution to extrapolate from); measured at a/h = 100,
+                    # the tangential increments took 7 Newton iterations
+                    # instead of 13
                     (p1, d1), (p0, d0) = solutions[-1], solutions[-2]
                     guess, predicted = (2.0 * p1 - p0, 2.0 * d1 - d0), True
-                rec = gi.solve_increment(f, s, guess, rolling)
+                start = gi.snapshot() if predicted else None
+                offset = None if offsets is None else offsets[j]
+                rec = gi.solve_increment(f, s, guess, rolling, offset=offset)
                 if predicted and not rec.converged:  # again from the last solution
-                    gi.p, gi.d = p1.copy(), d1.copy()
-                    rec = gi.solve_increment(f, s, None, rolling)
+                    gi.restore(start)
+                    rec = gi.solve_increment(f, s, None, rolling, offset=offset)
                 solutions.append((gi.p.copy(), gi.d.copy()))
                 records.append(rec)
                 if not rec.converged:
@@ -345,100 +403,123 @@ def _solve_on_grid(problem, steps, options, solver) -> GridResult:
             prev_s = gi.d.copy()
             if report:
                 out.append(verified_state(gi, step.label or f"step {i + 1}", force))
-                out[-1].translations = _translations(*supports[i], axes, gi.d)
+                out[-1].translations = _translations(*self.supports[i], axes, gi.d)
             else:
                 out.append(gi.state())
         return out, records, gi, solutions
 
-    # the coarse pass: the largest contact over the history
-    a_est = max(fit_radius / 4.0, 1e-12)
-    half = None
-    for _ in range(8):
-        cells = 32
-        h = 2.0 * a_est * 1.5 / cells
-        g = Grid.centred(cells, cells, h, h)
-        st, _, _, coarse = run(g, [], report=False)
-        closed = np.zeros(g.size, dtype=bool)
-        for s in st:
-            closed |= s != OPEN
-        if not closed.any():
-            a_est *= 2.0
-            continue
-        ij = np.argwhere(closed.reshape(g.nx, g.ny))
-        if ij.min() == 0 or ij[:, 0].max() == g.nx - 1 or ij[:, 1].max() == g.ny - 1:
-            a_est *= 2.0
-            continue
-        xy = g.centres[closed][:, :2]
-        half = np.abs(xy).max(axis=0) + 0.5 * h
-        if half.min() < 8.0 * h:  # too few cells across: size the pass on it again
-            a_est = float(half.max()) * 1.1
-            half = None
-            continue
-        break
-    if half is None:
-        raise ConfigError("method = \"multiscale\": no bounded contact zone found on the grid "
-                          "(the bodies do not touch under these loads, or their contact is not "
-                          "concentrated: flat on flat, or conforming)",
-                          location={"field": "contact.method"})
-    if opt.resolved is not None:
-        r = 1.2 * float(np.hypot(*half))
-        size = max(element_size(b1, s1, origin, axes, r), element_size(b2, s2, origin, axes, r))
-        if float(half.min()) >= opt.resolved * size:
-            raise ConfigError(f"the meshes resolve the contact ({half.min() / size:.1f} elements "
-                              f"per contact half-width, >= {opt.resolved:g})",
+    def size(self, opt: GridOptions):
+        """The coarse pass (step 4): the largest contact's half-widths (2,)
+        in the frame over the whole history, found on a 32 × 32 grid without
+        corrections (enlarged until the contact lies inside it), and that
+        grid with its solutions, (Grid, [(p, d)] per increment), from which
+        :meth:`run` starts the fine grid.  With ``opt.resolved``, a
+        ConfigError when the meshes already resolve the contact."""
+        b1, b2 = self.bodies
+        s1, s2 = self.surfaces
+        a_est = max(self.fit_radius / 4.0, 1e-12)
+        half = None
+        for _ in range(8):
+            cells = 32
+            h = 2.0 * a_est * 1.5 / cells
+            g = Grid.centred(cells, cells, h, h)
+            st, _, _, coarse = self.run(g, [], report=False)
+            closed = np.zeros(g.size, dtype=bool)
+            for s in st:
+                closed |= s != OPEN
+            if not closed.any():
+                a_est *= 2.0
+                continue
+            ij = np.argwhere(closed.reshape(g.nx, g.ny))
+            if ij.min() == 0 or ij[:, 0].max() == g.nx - 1 or ij[:, 1].max() == g.ny - 1:
+                a_est *= 2.0
+                continue
+            xy = g.centres[closed][:, :2]
+            half = np.abs(xy).max(axis=0) + 0.5 * h
+            if half.min() < 8.0 * h:  # too few cells across: size the pass on it again
+                a_est = float(half.max()) * 1.1
+                half = None
+                continue
+            break
+        if half is None:
+            raise ConfigError("method = \"multiscale\": no bounded contact zone found on the "
+                              "grid (the bodies do not touch under these loads, or their contact "
+                              "is not concentrated: flat on flat, or conforming)",
                               location={"field": "contact.method"})
-    cell = opt.grid_size or float(half.min()) / opt.cells_per_radius
-    margin = opt.margin
-    t1 = t2 = time.perf_counter()
-    for attempt in range(3):
-        if margin * float(np.hypot(*half)) > fit_radius:
-            fit_radius_needed = margin * float(np.hypot(*half))
-            c1, _, e1 = surface_fit(b1, s1, origin, axes, fit_radius_needed)
-            c2, _, e2 = surface_fit(b2, s2, origin, axes, fit_radius_needed)
+        if opt.resolved is not None:
+            r = 1.2 * float(np.hypot(*half))
+            size = max(element_size(b1, s1, self.origin, self.axes, r),
+                       element_size(b2, s2, self.origin, self.axes, r))
+            if float(half.min()) >= opt.resolved * size:
+                raise ConfigError(f"the meshes resolve the contact ({half.min() / size:.1f} "
+                                  f"elements per contact half-width, >= {opt.resolved:g})",
+                                  location={"field": "contact.method"})
+        self.half = half
+        return half, (g, coarse)
+
+    def build(self, half, opt: GridOptions, margin: float, deferred: bool = False):
+        """The grid over the contact's half-widths ``half`` with ``margin``
+        (cells of ``opt.grid_size``, default the smaller half-width /
+        ``opt.cells_per_radius``), the surfaces fitted again over it when it
+        reaches past the first fits, and each body's correction on it
+        (``deferred``: their coarse solves left to
+        :func:`~.correction.solve_together`)."""
+        b1, b2 = self.bodies
+        s1, s2 = self.surfaces
+        cell = opt.grid_size or float(half.min()) / opt.cells_per_radius
+        if margin * float(np.hypot(*half)) > self.fit_radius:
+            needed = margin * float(np.hypot(*half))
+            c1, _, e1 = surface_fit(b1, s1, self.origin, self.axes, needed)
+            c2, _, e2 = surface_fit(b2, s2, self.origin, self.axes, needed)
+            self.fits = [(c1, e1), (c2, e2)]
+        (c1, _), (c2, _) = self.fits
         nx = scipy.fft.next_fast_len(int(math.ceil(2.0 * margin * half[0] / cell)))
         ny = scipy.fft.next_fast_len(int(math.ceil(2.0 * margin * half[1] / cell)))
         grid = Grid.centred(nx, ny, cell, cell)
-        t1 = time.perf_counter()
         k1 = (-2.0 * c1[3], -2.0 * c1[5])  # body 1's local depth is -ζ1
         k2 = (2.0 * c2[3], 2.0 * c2[5])
-        corrections = [BodyCorrection(b1, 1, origin, axes, grid, opt.anchors, curvature=k1),
-                       BodyCorrection(b2, 2, origin, axes, grid, opt.anchors, curvature=k2)]
-        t2 = time.perf_counter()
-        history, records, _, _ = run(grid, corrections, report=True, coarse=(g, coarse))
-        # the contact must stay inside the grid: a closed cell on its border
-        # means the sizing pass fell short (a grid 1.5 times wider again)
-        # (a band as wide as the longest transient roll: a cell takes its
-        # stick reference from that far upstream)
-        band = 1 + max((math.ceil(s.rolling.distance / cell - 1e-9) for s in steps
+        corrections = [BodyCorrection(b1, 1, self.origin, self.axes, grid, opt.anchors,
+                                      curvature=k1, deferred=deferred),
+                       BodyCorrection(b2, 2, self.origin, self.axes, grid, opt.anchors,
+                                      curvature=k2, deferred=deferred)]
+        return grid, corrections
+
+    def reaches_edge(self, grid: Grid, history) -> bool:
+        """Whether a closed cell of ``history`` lies on the grid's border
+        (the sizing pass fell short), in a band as wide as the longest
+        transient roll (a cell takes its stick reference from that far
+        upstream)."""
+        cell = grid.dx
+        band = 1 + max((math.ceil(s.rolling.distance / cell - 1e-9) for s in self.steps
                         if s.rolling is not None and s.rolling.distance), default=0)
+        nx, ny = grid.shape
         edge = np.zeros((nx, ny), dtype=bool)
         edge[:band, :] = edge[-band:, :] = edge[:, :band] = edge[:, -band:] = True
-        if not any(np.any((st.state != OPEN).reshape(nx, ny) & edge) for st in history):
-            break
-        if attempt == 2:
-            raise ConfigError("method = \"multiscale\": the contact reaches the edge of the "
-                              f"contact grid ({nx} x {ny} cells of {cell:.3g}) after two "
-                              "enlargements; use method = \"full\"",
-                              location={"field": "contact.method"})
-        margin *= 1.5
-    t3 = time.perf_counter()
-    return GridResult((b1.name, b2.name), grid, origin, axes, gap_on(grid), history, records,
-                      corrections, {"sizing": t1 - t0, "corrections": t2 - t1,
-                                    "solve": t3 - t2, "total": t3 - t0,
-                                    "surface_fit_rms": [e1, e2]}, surfaces=(c1, c2))
+        return any(np.any((st.state != OPEN).reshape(nx, ny) & edge) for st in history)
+
+    def result(self, grid, history, records, corrections, timings) -> GridResult:
+        b1, b2 = self.bodies
+        return GridResult((b1.name, b2.name), grid, self.origin, self.axes, self.gap_on(grid),
+                          history, records, corrections,
+                          {**timings, "surface_fit_rms": [self.fits[0][1], self.fits[1][1]]},
+                          surfaces=(self.fits[0][0], self.fits[1][0]))
 
 
 #: The bounds of :func:`applicability`: the corrections' error estimate, the
 #: contact's size against each surface's radius of curvature (the half-space
 #: near field is first order in a/R), against the distance to the contact
 #: surface's edge and against the body's thickness along the normal.
-LIMITS = {"estimate": 3e-3, "a_over_R": 0.1, "edge_over_a": 5.0, "thickness_over_a": 5.0}
+#: In an assembly, also the distance between two contacts of a shared body
+#: against their grids' half-width (:func:`~.assembly.assembly_applicability`).
+LIMITS = {"estimate": 3e-3, "a_over_R": 0.1, "edge_over_a": 5.0, "thickness_over_a": 5.0,
+          "separation_over_a": 5.0}
 
 
-def applicability(result: GridResult, problem) -> dict:
+def applicability(result: GridResult, problem, index: int = 0) -> dict:
     """Whether the grid's answer can stand for the bodies': per check its
     value, its bound (:data:`LIMITS`) and whether it holds; ``reason`` those
-    that fail ('' when all hold)."""
+    that fail ('' when all hold).  ``index``: the pair of ``problem`` that
+    ``result`` solved."""
     g = result.grid
     a = 0.5 * min(g.nx * g.dx, g.ny * g.dy)  # the grid's half-width: above the contact's
     checks = {}
@@ -446,7 +527,7 @@ def applicability(result: GridResult, problem) -> dict:
     checks["estimate"] = (est, LIMITS["estimate"], est <= LIMITS["estimate"])
     curv = max(abs(k) for c in result.corrections for k in c.curvature)
     checks["a_over_R"] = (curv * a, LIMITS["a_over_R"], curv * a <= LIMITS["a_over_R"])
-    pair = problem.pairs[0]
+    pair = problem.pairs[index]
     edge, thick = np.inf, np.inf
     for c, region in zip(result.corrections, (pair.surface1, pair.surface2)):
         d = c.body.discretization

@@ -26,9 +26,12 @@ from ..halfspace import HalfSpaceStress, stress_tensors
 from .surface import quartic_terms
 
 
-def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
+def frame_depths(result, body: str, points, clip: bool = False) -> tuple[int, np.ndarray]:
     """(body index, (n, 3) = (ξ, η, depth below the body's contact surface))
-    of global ``points`` (n, 3); depth > 0 inside the body."""
+    of global ``points`` (n, 3); depth > 0 inside the body.  A point above
+    the surface is refused, or with ``clip`` taken on it (the field of
+    another contact of the body, read where this one's surface fit does not
+    reach)."""
     b = body_index(result, body)
     try:
         X = np.asarray(points, dtype=float)
@@ -40,6 +43,9 @@ def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
     L = (X - result.origin) @ result.axes.T
     zeta = quartic_terms(L[:, 0], L[:, 1]) @ result.surfaces[b]
     depth = L[:, 2] - zeta if b == 1 else zeta - L[:, 2]
+    if clip:
+        g = result.grid
+        return b, np.column_stack([L[:, :2], np.maximum(depth, 1e-9 * min(g.dx, g.dy))])
     bad = np.flatnonzero(~(depth > 0.0))
     if bad.size:
         i = int(bad[0])
@@ -49,12 +55,13 @@ def frame_depths(result, body: str, points) -> tuple[int, np.ndarray]:
     return b, np.column_stack([L[:, :2], depth])
 
 
-def grid_stresses(result, body: str, points, step: int = -1) -> np.ndarray:
+def grid_stresses(result, body: str, points, step: int = -1, clip: bool = False) -> np.ndarray:
     """The stress tensor (n, 6) = (σ_xx, σ_yy, σ_zz, σ_xy, σ_yz, σ_xz), global
     components, tension positive, at global ``points`` (n, 3) inside ``body``
-    at the end of load step ``step`` (an index into ``result.history``)."""
+    at the end of load step ``step`` (an index into ``result.history``);
+    ``clip``: as :func:`frame_depths`."""
     check_step(result, step)
-    b, local = frame_depths(result, body, points)
+    b, local = frame_depths(result, body, points, clip)
     field, p = _field(result, b, step)
     return _global(result, b, _sum(field, result.grid, local, p))
 

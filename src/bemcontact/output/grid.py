@@ -22,6 +22,13 @@ full result:
 * the stress files of :mod:`bemcontact.output.stresses`;
 * ``grid_tractions.png``: pressure and tangential traction maps (with
   matplotlib).
+
+An assembly (:class:`~bemcontact.multiscale.assembly.GridAssemblyResult`)
+writes each pair's ``grid.csv``, ``grid.vtu`` and ``grid_tractions.png``
+under the stem of the full path's pair files (``<stem>_grid.csv``, ...),
+every ``<body>.vtu`` once (a shared body's fields superposed over its
+pairs), and in ``summary.json`` per pair its grid summary with ``files``
+its stem, the couplings and the sweeps.
 """
 
 from __future__ import annotations
@@ -34,7 +41,9 @@ from typing import Any
 import numpy as np
 
 from ..errors import ConfigError
+from ..multiscale.assembly import GridAssemblyResult
 from ..multiscale.pair import GridResult
+from .layout import pair_stems
 from .rundir import RunDirectory
 from .vtu import write_body_vtu, write_vtu
 from ..stresses import measures
@@ -67,54 +76,78 @@ def _fields(result: GridResult):
     return out
 
 
-def write_grid_results(result: GridResult, out_dir: str | os.PathLike | RunDirectory,
+def write_grid_results(result, out_dir: str | os.PathLike | RunDirectory,
                        problem_echo: Mapping[str, Any] | None = None,
                        options: OutputOptions | None = None, *,
                        force: bool = False) -> list[pathlib.Path]:
     """Write the files of the module docstring into ``out_dir`` and return
-    their paths."""
-    if not isinstance(result, GridResult):
+    their paths (an assembly: each pair's grid files under its pair's stem,
+    ``<stem>_grid.csv`` ...)."""
+    if not isinstance(result, (GridResult, GridAssemblyResult)):
         raise ConfigError(f"write_grid_results: expected a GridResult, got "
                           f"{type(result).__name__}")
     opt = OutputOptions(figures=figures_by_default()) if options is None else options
     if opt.figures:
         require_matplotlib("write_grid_results: figures")
+    pairs = _pair_files(result)
     files = ["summary.json"]
-    files += ["grid.vtu"] + [f"{_stem(n)}.vtu" for n in result.names] if opt.vtu else []
-    files += ["grid.csv"] if opt.csv else []
-    files += ["grid_tractions.png"] if opt.figures else []
-    f = _fields(result)
+    files += ([f"{pre}grid.vtu" for _, pre in pairs] + [f"{_stem(n)}.vtu" for n in result.names]
+              if opt.vtu else [])
+    files += [f"{pre}grid.csv" for _, pre in pairs] if opt.csv else []
+    files += [f"{pre}grid_tractions.png" for _, pre in pairs] if opt.figures else []
     fields, skipped = stress_fields(result, opt)  # before anything is written: may refuse
     files += file_names(fields, opt)
     rundir = out_dir if isinstance(out_dir, RunDirectory) else RunDirectory(out_dir, force=force)
     with rundir.staging() as tmp:
         data = {**result.summary(), "names": list(result.names)}
+        if isinstance(result, GridAssemblyResult):
+            for entry, (_, pre) in zip(data["pairs"], pairs):
+                entry["files"] = pre.removesuffix("_")
         data["stresses"] = stress_summary(result, fields, skipped)
         write_json(tmp / "summary.json", summary(data, problem_echo))
         write_stress_files(tmp, fields, opt, (problem_echo or {}).get("units"))
-        if opt.csv:
-            table = np.column_stack([result.points, f["pressure"], f["tangential_traction"],
-                                     f["gap"], f["slip"], f["state"].astype(float)])
-            columns = GRID_COLUMNS
-            if "microslip" in f:
-                table = np.column_stack([table, f["microslip"], f["frictional_power_density"]])
-                columns = columns + ROLLING_COLUMNS
-            write_csv(tmp / "grid.csv", columns, table, ("state",))
+        for r, pre in pairs:
+            _write_pair(tmp, r, pre, opt, (problem_echo or {}).get("units"))
         if opt.vtu:
-            points, quads = _quads(result)
-            cells = dict(f)
-            for name in result.names:  # each body's surface stresses at the cells
-                stress = result.surface_stresses(name)
-                cells[f"{name}_stress"] = stress
-                cells.update({f"{name}_{k}": v for k, v in measures(stress).items()})
-            write_vtu(tmp / "grid.vtu", points, [("quad", quads)], {},
-                       cell_data={k: [np.asarray(v)] for k, v in cells.items()})
             for name in result.names:
                 write_body_vtu(tmp / f"{_stem(name)}.vtu", result.body_fields(name))
-        if opt.figures:
-            _figure(tmp / "grid_tractions.png", result, f, (problem_echo or {}).get("units"))
     out = pathlib.Path(rundir.given)
     return [out / name for name in files]
+
+
+def _pair_files(result) -> list[tuple[GridResult, str]]:
+    """(pair result, the prefix of its grid files) of each pair: '' for two
+    bodies, ``<stem>_`` in an assembly (the stems of the full path's pair
+    files, :func:`~.layout.pair_stems`)."""
+    if isinstance(result, GridResult):
+        return [(result, "")]
+    stems = pair_stems([(r.names, regions) for r, regions in zip(result.pairs, result.regions)])
+    return [(r, f"{stem}_") for r, stem in zip(result.pairs, stems)]
+
+
+def _write_pair(tmp: pathlib.Path, result: GridResult, pre: str, opt: OutputOptions,
+                units) -> None:
+    """One grid's ``grid.csv``, ``grid.vtu`` and figure (names after ``pre``)."""
+    f = _fields(result)
+    if opt.csv:
+        table = np.column_stack([result.points, f["pressure"], f["tangential_traction"],
+                                 f["gap"], f["slip"], f["state"].astype(float)])
+        columns = GRID_COLUMNS
+        if "microslip" in f:
+            table = np.column_stack([table, f["microslip"], f["frictional_power_density"]])
+            columns = columns + ROLLING_COLUMNS
+        write_csv(tmp / f"{pre}grid.csv", columns, table, ("state",))
+    if opt.vtu:
+        points, quads = _quads(result)
+        cells = dict(f)
+        for name in result.names:  # each body's surface stresses at the cells
+            stress = result.surface_stresses(name)
+            cells[f"{name}_stress"] = stress
+            cells.update({f"{name}_{k}": v for k, v in measures(stress).items()})
+        write_vtu(tmp / f"{pre}grid.vtu", points, [("quad", quads)], {},
+                  cell_data={k: [np.asarray(v)] for k, v in cells.items()})
+    if opt.figures:
+        _figure(tmp / f"{pre}grid_tractions.png", result, f, units)
 
 
 def _stem(body: str) -> str:
@@ -195,28 +228,44 @@ def _adhesion_map(fig, ax, result: GridResult, extent) -> None:
                  fontsize=9)
 
 
-def report(result: GridResult, note: str, unit: str, force, tolerance: float) -> str:
+def report(result, note: str, unit: str, force, tolerance: float) -> str:
     """The lines ``bemcontact run`` prints for a contact solved on the grid
-    (``force(value, floor, unit)`` formats a force)."""
+    (``force(value, floor, unit)`` formats a force); an assembly's per pair."""
     s = result.summary()
-    est = max(c["estimate"] for c in s["corrections"].values())
-    last = s["steps"][-1]
-    floor = 10.0 * tolerance * max(abs(last["normal_force"]), 1e-300)
-    return "\n".join([
-        f"converged on the contact grid in {sum(s['newton_iterations'])} Newton iteration(s), "
-        f"{len(s['steps'])} load step(s) in {len(s['newton_iterations'])} increment(s), "
-        f"{s['timings']['total']:.2f} s", f"  {note}",
-        f"  the bodies' corrections: error estimate {est:.1g}",
-        f"  normal force      {force(last['normal_force'], floor, unit)}",
-        f"  tangential force  {force(last['tangential_force'], floor, unit)}",
-        f"  grid ({result.grid.size} cells): {last['cells']['closed']} closed, "
-        f"{last['cells']['stick']} stick, {last['cells']['slip']} slip"]
-        + ([] if "rolling" not in last else [
-            f"  rolling ({last['rolling']['mode']}): creep force "
-            f"[{', '.join(force(v, floor, unit) for v in last['rolling']['creep_force'])}] = "
-            f"[{', '.join(f'{v:.4g}' for v in last['rolling']['creep_force_ratio'])}] mu Fn "
-            f"at creepage [{', '.join(f'{v:.4g}' for v in last['rolling']['creepage'])}], "
-            f"spin {last['rolling']['spin']:.4g}"]))
+    several = isinstance(result, GridAssemblyResult)
+    pairs = s["pairs"] if several else [s]
+    grids = result.pairs if several else [result]
+    est = max(c["estimate"] for p in pairs for c in p["corrections"].values())
+    newton = [n for p in pairs for n in p["newton_iterations"]]
+    first = pairs[0]
+    lines = [
+        f"converged on the contact grid in {sum(newton)} Newton iteration(s), "
+        f"{len(first['steps'])} load step(s) in {len(first['newton_iterations'])} "
+        f"increment(s), {s['timings']['total']:.2f} s", f"  {note}",
+        f"  the bodies' corrections: error estimate {est:.1g}"]
+    if several:
+        est_c = max((c["estimate"] for c in s["couplings"]), default=0.0)
+        lines.append(f"  the couplings through shared bodies: error estimate {est_c:.1g}")
+    for k, (p, g) in enumerate(zip(pairs, grids)):
+        pad = "  " if several else ""
+        if several:
+            lines.append(f"  pair {'/'.join(g.names)}:")
+        last = p["steps"][-1]
+        floor = 10.0 * tolerance * max(abs(last["normal_force"]), 1e-300)
+        lines += [
+            f"  {pad}normal force      {force(last['normal_force'], floor, unit)}",
+            f"  {pad}tangential force  {force(last['tangential_force'], floor, unit)}",
+            f"  {pad}grid ({g.grid.size} cells): {last['cells']['closed']} closed, "
+            f"{last['cells']['stick']} stick, {last['cells']['slip']} slip"]
+        if "rolling" in last:
+            lines.append(
+                f"  {pad}rolling ({last['rolling']['mode']}): creep force "
+                f"[{', '.join(force(v, floor, unit) for v in last['rolling']['creep_force'])}]"
+                f" = [{', '.join(f'{v:.4g}' for v in last['rolling']['creep_force_ratio'])}] "
+                f"mu Fn at creepage "
+                f"[{', '.join(f'{v:.4g}' for v in last['rolling']['creepage'])}], "
+                f"spin {last['rolling']['spin']:.4g}")
+    return "\n".join(lines)
 
 
 __all__ = ["GRID_COLUMNS", "ROLLING_COLUMNS", "report", "write_grid_results"]

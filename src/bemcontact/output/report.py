@@ -28,7 +28,10 @@ def run_report(problem, result, out: pathlib.Path, files) -> str:
     force = problem.units.get("force", "")
     unit = f" {force}" if force else ""
     note = getattr(problem, "method_note", "")
-    if not hasattr(result, "pairs"):  # solved on the contact grid
+    from ..multiscale.assembly import GridAssemblyResult
+    from ..multiscale.pair import GridResult
+
+    if isinstance(result, (GridResult, GridAssemblyResult)):  # solved on the contact grid
         from .grid import report
 
         return "\n".join([f"{problem.path}: " + report(result, note, unit, force_text,

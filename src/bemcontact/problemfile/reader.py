@@ -65,7 +65,7 @@ from ..output.write import (
 )
 from . import schema
 from .checks import FREE, Checker, a_type, one_line, suggest
-from .method import on_grid
+from .method import method_of, on_grid
 from .bodies import read_body_force, read_material, read_materials, read_mesh_table, surface_of
 from .pairs import read_pairs
 from .sizes import check_body_size
@@ -150,11 +150,7 @@ class ProblemFile:
         if threads is not None:
             options = dataclasses.replace(options, threads=threads)
         object.__setattr__(self, "method_note", "")
-        method = self.pairs[0].method if len(self.pairs) == 1 else "full"
-        if len(self.pairs) > 1 and any(p.method == "multiscale" for p in self.pairs):
-            raise ConfigError(f"{self.path}: contact.method = \"multiscale\" solves two bodies "
-                              "in one pair; use method = \"full\" for an assembly",
-                              location={"field": "contact.method"})
+        method = method_of(self.pairs)
         if method != "full":
             grid, note = on_grid(self._contact, self.steps, method, options)
             object.__setattr__(self, "method_note", note)
@@ -168,9 +164,10 @@ class ProblemFile:
         files the ``[output]`` table asks for, the problem file's content in
         ``summary.json`` (all or nothing, and never over files bemcontact did
         not write unless ``force``: :func:`~bemcontact.output.write_results`)."""
+        from ..multiscale.assembly import GridAssemblyResult
         from ..multiscale.pair import GridResult
 
-        if isinstance(result, GridResult):
+        if isinstance(result, (GridResult, GridAssemblyResult)):
             from ..output.grid import write_grid_results
 
             return write_grid_results(result, out_dir, self.echo, self.output, force=force)
@@ -330,7 +327,7 @@ class _Reader(Checker):
                 k = exc.location.get("step", 0)
                 self.wrap(f"step[{k}]", exc, content["step"][k].get("label", k))
         # the full path's frame, unless the grid solves the pair (it never uses it)
-        grid_only = len(problem.pairs) == 1 and problem.pairs[0].method == "multiscale"
+        grid_only = method_of(problem.pairs) == "multiscale"
         if check_overlap and not grid_only:
             try:  # the frame's memory estimate, before the frame allocates
                 problem.contact_problem().check_frame_memory()

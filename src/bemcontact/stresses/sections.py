@@ -28,6 +28,7 @@ import scipy.interpolate
 
 from ..contact.law import OPEN
 from ..contact.results import ContactResult
+from ..multiscale.assembly import GridAssemblyResult
 from ..multiscale.pair import GridResult
 from ..multiscale.surface import quartic_terms
 from .fields import Lattice
@@ -49,6 +50,8 @@ def _contacts(result) -> list[dict]:
     body 2), tangent, contact radius and each body's surface height h(u, v)
     relative to the plane through the peak normal to n (along its own
     inward normal)."""
+    if isinstance(result, GridAssemblyResult):
+        return [c for r in result.pairs for c in _contacts(r)]
     if isinstance(result, GridResult):
         st = result.history[-1]
         k = int(np.argmax(st.p[:, 2]))

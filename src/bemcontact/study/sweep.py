@@ -56,7 +56,7 @@ from ..linalg.threads import available_cores
 from ..output import write_summary
 from ..problemfile import load_problem
 from ..problemfile.checks import Checker, a_type, one_line
-from ..problemfile.method import on_grid
+from ..problemfile.method import method_of, on_grid
 from ..settings import Key, check_settings, setting
 from .cache import BodyCache
 from .points import Point, check_points, parse_values, points_of
@@ -433,7 +433,7 @@ def run_point(point_file: str, out_dir: str, group: str, cache_dir: str,
         opt = pf.options if content_threads else replace(pf.options, threads=threads)
         # the pair's method, as `bemcontact run` follows it: a point the contact
         # grid solves needs no condensed bodies
-        method = pf.pairs[0].method if len(pf.pairs) == 1 else "full"
+        method = method_of(pf.pairs)
         grid = on_grid(pf.contact_problem(), pf.steps, method, opt)[0] if method != "full" \
             else None
         if grid is not None:

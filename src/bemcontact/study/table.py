@@ -80,7 +80,23 @@ def grid_outputs(result) -> dict[str, Any]:
     """The key outputs of a contact solved on the grid (a
     :class:`~bemcontact.multiscale.pair.GridResult`), as :func:`outputs`':
     counts of cells, areas from the cells' area, forces in global components
-    at the last step."""
+    at the last step; an assembly's (a
+    :class:`~bemcontact.multiscale.assembly.GridAssemblyResult`) per pair
+    as ``pair<k>.<name>``."""
+    pairs = getattr(result, "pairs", None)
+    if pairs is None:
+        return _grid_pair_outputs(result)
+    out: dict[str, Any] = {
+        "converged": bool(result.converged),
+        "newton_iterations": int(sum(r.iterations for p in pairs for r in p.records)),
+        "increments": len(pairs[0].records),
+    }
+    for k, pr in enumerate(pairs, 1):
+        out.update({f"pair{k}.{n}": v for n, v in _grid_pair_outputs(pr).items()})
+    return out
+
+
+def _grid_pair_outputs(result) -> dict[str, Any]:
     last = result.history[-1]
     state = np.asarray(last.state)
     cell = result.grid.cell_area
