@@ -189,3 +189,20 @@ def test_a_floating_body_is_refused():
                        name="sphere")
     with pytest.raises(ConfigError, match="sphere: nothing holds it in x, y"):
         solve_on_grid(ContactProblem(prob.bodies[0], free, ContactPair("zmax", "contact")))
+
+
+def test_a_frictionless_first_step_in_increments_ends_where_one_increment_does():
+    """Without friction the contact does not depend on the path: a first step
+    of three increments (the secant predictor starts at the third, from the
+    first two; the unloaded start has no solution to extrapolate from) ends
+    at the force of one increment, to the Newton tolerance's resolution
+    (1e-8: both solve the same equations to 1e-10 of the traction scale)."""
+    from bemcontact.contact import LoadStep
+    from bemcontact.multiscale.pair import GridOptions
+
+    problem = coarse_sphere_on_block()
+    opt = GridOptions(grid_size=0.05)
+    once = solve_on_grid(problem, [LoadStep()], opt).history[-1].force[2]
+    thrice = solve_on_grid(problem, [LoadStep(increments=3)], opt)
+    assert len(thrice.records) == 3 and thrice.converged
+    assert thrice.history[-1].force[2] == pytest.approx(once, rel=1e-8)
