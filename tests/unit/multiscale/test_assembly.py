@@ -78,7 +78,7 @@ def test_the_neighbour_acts_as_a_shallower_approach(problem, result):
     its approach less the neighbour's normal offset (the block's surface
     lowered under it by the other pair's tractions, pressure-weighted over
     the contact): equal to 5e-4 (what is left is the offset's variation over
-    the contact and its tangential part; measured 4e-5 and 9e-5), while the
+    the contact and its tangential part; measured 5e-5 and 1.1e-4), while the
     neighbour itself lowers the forces by 1.2 % and 3.5 %."""
     c = {(i, j): x for i, j, _, x in result.couplings}
     for k, name in enumerate(("left", "right")):
