@@ -358,7 +358,8 @@ def assembly_applicability(result: GridAssemblyResult, problem) -> dict:
         app = applicability(r, problem, i)
         for name, c in app["checks"].items():
             old = checks.get(name)
-            worse = old is None or (c["value"] > old["value"] if name in ("estimate", "a_over_R")
+            larger = name in ("estimate", "a_over_R", "element_over_near_radius")
+            worse = old is None or (c["value"] > old["value"] if larger
                                     else c["value"] < old["value"])
             if worse:
                 checks[name] = c

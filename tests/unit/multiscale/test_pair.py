@@ -206,3 +206,24 @@ def test_a_frictionless_first_step_in_increments_ends_where_one_increment_does()
     thrice = solve_on_grid(problem, [LoadStep(increments=3)], opt)
     assert len(thrice.records) == 3 and thrice.converged
     assert thrice.history[-1].force[2] == pytest.approx(once, rel=1e-8)
+
+
+def test_auto_sends_a_sphere_meshed_too_coarsely_for_its_near_field_to_the_full_path():
+    """The benchmark's sphere meshed at 0.8 mm near the contact (elements of
+    0.70 near-field radii on the grid of a/12) carries 4 % less force than
+    converged, at 0.5 mm (0.48 radii) 0.05 %: the element check (bound 0.6)
+    sends the first to the full path, its line saying to refine, and keeps
+    the second on the grid."""
+    from bemcontact.multiscale.pair import LIMITS
+
+    def sphere(fine):
+        return cases.sphere_on_block(fine, 0.03, friction_coefficient=0.0,
+                                     setup=cases.SphereOnBlock(fine_radius=1.0, growth=0.45))
+
+    result, note = on_grid(sphere(0.8), (), "auto", SolverOptions())
+    assert result is None
+    assert "a curved contact face meshed too coarsely for its near field" in note
+    assert "refine it near the contact" in note
+    res = solve_on_grid(sphere(0.5))
+    check = applicability(res, sphere(0.5))["checks"]["element_over_near_radius"]
+    assert check["holds"] and check["value"] < LIMITS["element_over_near_radius"] - 0.1
