@@ -14,7 +14,7 @@ RUN_DEPS := numpy scipy meshio threadpoolctl rich matplotlib
 # ... and what the tests need besides: gmsh (generated meshes), Dask (sweeps), scikit-fem and
 # cvxopt and pymetis (finite-element bodies), the docs'
 # builder (the API reference is generated from the docstrings: make docs, tests/test_docs.py)
-TEST_DEPS := gmsh pytest hypothesis mkdocs dask distributed scikit-fem cvxopt pymetis
+TEST_DEPS := gmsh pytest pytest-xdist hypothesis mkdocs dask distributed scikit-fem cvxopt pymetis
 DOC_DEPS := "mkdocstrings[python]>=1.0"
 
 .PHONY: all install demo test test-all test-wheel wheel bench docs clean FORCE
@@ -54,15 +54,20 @@ demo: install
 	$(VENV)/bin/bemcontact run examples/two_cubes_dissimilar.toml --out out/dissimilar
 	$(PY) examples/two_cubes_figure.py out/similar out/dissimilar out/two_cubes_figure1.png
 
-# The default suite leaves out the cases marked slow (a minute or more each, the
-# suite within about 12 minutes on 2 cores); test-all runs them too.  A run ended
-# by a signal (an abort prints no summary) names the test it was in.
+# The default suite leaves out the cases marked slow (a minute or more each);
+# test-all runs them too.  It runs in two worker processes (pytest-xdist, a
+# module's tests in the same worker, so its fixtures are computed once) with
+# single-threaded BLAS: much of the suite is Python or one-threaded work, and
+# two BLAS threads per worker would only contend (measured on a 2-core AMD
+# EPYC: 9.7 minutes, 18.7 serial).  A run ended by a signal (an abort prints
+# no summary) names the test it was in.
 PYTEST_RUN = BEMCONTACT_TEST_TRACE=$(VENV)/.current-test $(PY) -m pytest -q
+PARALLEL = OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 SIGNALLED = { rc=$$?; if [ $$rc -gt 128 ]; then \
 	echo "pytest ended by signal $$((rc - 128)) in $$(cat $(VENV)/.current-test)"; fi; exit $$rc; }
 
 test: install $(VENV)/.testdeps
-	@$(PYTEST_RUN) -m "not slow and not packaging" || $(SIGNALLED)
+	@$(PARALLEL) $(PYTEST_RUN) -n 2 --dist loadscope -m "not slow and not packaging" || $(SIGNALLED)
 
 test-all: install $(VENV)/.testdeps
 	@$(PYTEST_RUN) || $(SIGNALLED)

@@ -70,9 +70,14 @@ def test_documented_command_runs(page, command, tmp_path):
         out = pathlib.Path(argv[argv.index("--out") + 1])
         # what getting-started.md promises: ParaView collections, VTU, a PNG, the
         # summary; on the contact grid (method = "multiscale") the grid's files
-        used = json.loads((out / "summary.json").read_text()).get("method", {})
+        summary = json.loads((out / "summary.json").read_text())
+        used = summary.get("method", {})
         if isinstance(used, dict) and used.get("used") == "multiscale":
-            names, figure = ("grid.vtu", "grid_tractions.png", "grid.csv"), "grid_tractions.png"
+            # an assembly: each pair's grid files under its stem
+            stems = [f"{p['files']}_" for p in summary.get("pairs", [])] or [""]
+            names = tuple(f"{s}{n}" for s in stems
+                          for n in ("grid.vtu", "grid_tractions.png", "grid.csv"))
+            figure = f"{stems[0]}grid_tractions.png"
         else:
             names = ("frame.pvd", "frame.vtu", "frame_tractions.png", "frame.csv")
             figure = "frame_tractions.png"

@@ -106,3 +106,38 @@ def test_corrected_grid_against_the_full_path_on_a_sphere_and_block(full_sphere_
     assert -0.05 < alone < -0.035, alone
     assert abs(corrected) < 3e-3, corrected
     assert rms < 0.015, rms
+
+
+def test_a_body_corrected_again_reuses_its_factorization(monkeypatch):
+    """A sweep's points (or an assembly's grids) correct the same coarse
+    body again: its mixed system is assembled and factored once
+    (``coarse_factor``), and a correction made from the kept factorization is
+    the fresh one's to the last bit (the same LU applied to the same data);
+    another kind of supports is another factorization."""
+    from bemcontact.bem import ElasticBody, Fixed
+    from bemcontact.multiscale import correction
+
+    correction.clear_coarse_factors()
+    block = cases.sphere_on_block(0.5, 0.03, setup=cases.SphereOnBlock(
+        fine_radius=1.0, growth=0.45)).bodies[0]
+    calls = []
+    original = type(block).mixed_system
+
+    def counted(self, *args, **kwargs):
+        calls.append(self.name)
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(type(block), "mixed_system", counted)
+    grid = Grid.centred(16, 16, 0.07, 0.07)
+    first = BodyCorrection(block, 1, np.zeros(3), np.eye(3), grid)
+    again = BodyCorrection(block, 1, np.zeros(3), np.eye(3), grid)
+    other = BodyCorrection(block, 1, np.zeros(3), np.eye(3), Grid.centred(20, 20, 0.05, 0.05))
+    assert calls == ["block"]
+    p = np.random.default_rng(0).normal(size=(grid.size, 3))
+    np.testing.assert_array_equal(first.low_rank(p), again.low_rank(p))
+    assert other.estimate < LIMITS["estimate"]
+    sides = ElasticBody(block.mesh, block.material, {"zmin": Fixed(), "xmin": Fixed()},
+                        name="block")
+    BodyCorrection(sides, 1, np.zeros(3), np.eye(3), grid)
+    assert calls == ["block", "block"]
+    correction.clear_coarse_factors()
