@@ -209,3 +209,16 @@ def test_the_coupling_moves_the_forces_as_the_full_path_does(problem, result):
         # the lateral pull toward the other contact
         fx_grid = (result.pairs[k].history[-1].force @ result.pairs[k].axes)[0]
         assert fx_grid == pytest.approx(full[name][0], rel=TANGENTIAL)
+
+
+def test_a_sweep_row_has_each_pairs_outputs(result):
+    """A sweep point the grid solves as an assembly: its row gets each
+    pair's forces and cells as ``pair<k>.<name>``, as the full path's
+    assemblies do."""
+    from bemcontact.study.table import grid_outputs
+
+    row = grid_outputs(result)
+    assert row["converged"] is True and row["increments"] == INCREMENTS
+    for k, r in enumerate(result.pairs, 1):
+        assert row[f"pair{k}.normal_force"] == pytest.approx(r.history[-1].force[2], rel=1e-12)
+        assert row[f"pair{k}.contact_area"] > 0.0
