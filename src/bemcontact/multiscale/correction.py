@@ -26,10 +26,7 @@ the grid (:attr:`BodyCorrection.estimate`)."""
 
 from __future__ import annotations
 
-import collections
-import hashlib
 import math
-import threading
 import time
 
 import numpy as np
@@ -39,7 +36,7 @@ import scipy.linalg
 from ..errors import ConfigError
 from ..halfspace import Compliance, Grid, HalfSpaceOperator, rectangle_stresses
 from ..halfspace.influence import blocks_from_integrals, rectangle_integrals
-from ..linalg import LinearSolverOptions
+from .coarse import coarse_solve
 from .operator import ToeplitzOperator
 
 #: Local frame of body 1 relative to the grid's frame (per component).
@@ -572,54 +569,12 @@ class BodyCorrection:
         return out
 
 
-#: The coarse models factored last (:func:`coarse_factor`), at most
-#: :data:`KEEP_FACTORS` of them: a sweep's points, or one history's grids,
-#: solve the same bodies again.
-_FACTORS: collections.OrderedDict = collections.OrderedDict()
-_FACTORS_LOCK = threading.Lock()
-KEEP_FACTORS = 4
-#: Bodies of more dofs are not kept (their B, 3N × 3N, would double the
-#: memory of the factorization; 6,000 dofs: 0.29 GB each).
-KEEP_DOFS = 6000
-
-
-def coarse_factor(body, known_u: np.ndarray, threads: int | None = None):
-    """(LU of the mixed system's matrix A, B) of ``body``'s coarse model
-    with the dofs ``known_u`` prescribed (the remainder problem's
-    A x = B w for boundary values w), assembled and factored once per body
-    and kind of supports: kept for the :data:`KEEP_FACTORS` bodies used last
-    (of at most :data:`KEEP_DOFS` dofs)
-    (keyed by the body's ``model_key`` and ``known_u``; a sweep's points
-    vary loads, friction or the grid, not the coarse model).
-    :func:`clear_coarse_factors` frees them."""
-    key = (body.model_key(), hashlib.sha256(np.packbits(known_u).tobytes()).hexdigest())
-    with _FACTORS_LOCK:
-        if key in _FACTORS:
-            _FACTORS.move_to_end(key)
-            return _FACTORS[key]
-    n = known_u.size
-    A, _, B, _ = body.mixed_system(known_u, np.zeros((n, 0)), LinearSolverOptions(method="dense"),
-                                   threads, border=0, dofs=np.arange(n))
-    lu = scipy.linalg.lu_factor(A, overwrite_a=True, check_finite=False)
-    with _FACTORS_LOCK:
-        _FACTORS[key] = (lu, B)
-        while len(_FACTORS) > KEEP_FACTORS:
-            _FACTORS.popitem(last=False)
-    return lu, B
-
-
-def clear_coarse_factors() -> None:
-    """Forget the kept coarse factorizations (:func:`coarse_factor`)."""
-    with _FACTORS_LOCK:
-        _FACTORS.clear()
-
-
 def solve_together(corrections) -> None:
     """The coarse solves of ``corrections`` (made ``deferred``): one
     factorization per body for all its corrections' sources (a body shared
     by an assembly's pairs has one correction per grid; the mixed system
     depends on the body and its supports only), kept for the next solve of
-    the same body (:func:`coarse_factor`)."""
+    the same body (:func:`~.coarse.coarse_solve`)."""
     groups: dict[int, list] = {}
     for c in corrections:
         groups.setdefault(id(c.body), []).append(c)
@@ -627,14 +582,7 @@ def solve_together(corrections) -> None:
         body = group[0].body
         known_u = group[0]._known
         W = np.concatenate([c._W for c in group], axis=1)
-        if known_u.size <= KEEP_DOFS:
-            lu, B = coarse_factor(body, known_u, group[0]._threads)
-            x = scipy.linalg.lu_solve(lu, B @ W, check_finite=False)
-        else:  # assembled against these data only
-            A, BW, _, _ = body.mixed_system(known_u, W, LinearSolverOptions(method="dense"),
-                                            group[0]._threads, border=0)
-            lu = scipy.linalg.lu_factor(A, overwrite_a=True, check_finite=False)
-            x = scipy.linalg.lu_solve(lu, BW, check_finite=False)
+        x = coarse_solve(body, known_u, W, group[0]._threads)
         k = 0
         for c in group:
             m = c._W.shape[1]
@@ -643,5 +591,4 @@ def solve_together(corrections) -> None:
 
 
 __all__ = ["BodyCorrection", "chebyshev_points", "lagrange_weights",
-           "clear_coarse_factors", "coarse_factor", "point_load_displacements",
-           "quadratic_basis", "solve_together"]
+           "point_load_displacements", "quadratic_basis", "solve_together"]

@@ -115,9 +115,9 @@ def test_a_body_corrected_again_reuses_its_factorization(monkeypatch):
     the fresh one's to the last bit (the same LU applied to the same data);
     another kind of supports is another factorization."""
     from bemcontact.bem import ElasticBody, Fixed
-    from bemcontact.multiscale import correction
+    from bemcontact.multiscale import coarse
 
-    correction.clear_coarse_factors()
+    coarse.clear_coarse_factors()
     block = cases.sphere_on_block(0.5, 0.03, setup=cases.SphereOnBlock(
         fine_radius=1.0, growth=0.45)).bodies[0]
     calls = []
@@ -140,4 +140,4 @@ def test_a_body_corrected_again_reuses_its_factorization(monkeypatch):
                         name="block")
     BodyCorrection(sides, 1, np.zeros(3), np.eye(3), grid)
     assert calls == ["block", "block"]
-    correction.clear_coarse_factors()
+    coarse.clear_coarse_factors()
