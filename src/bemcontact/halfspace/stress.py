@@ -80,6 +80,14 @@ _NF = 14
 #: Corner-function values computed at once by :meth:`HalfSpaceStress.at`.
 _CHUNK_VALUES = 1 << 20
 
+#: Bytes a :class:`HalfSpaceStress` keeps of what does not depend on the
+#: tractions (the depth kernels' spectra of :meth:`~HalfSpaceStress.layers`,
+#: the corner sums of :meth:`~HalfSpaceStress.at`), for the same depths and
+#: points asked again under other tractions (a run's load steps, the other
+#: body of a pair of one Poisson ratio): the first asked are kept, up to
+#: this budget.
+KEEP_BYTES = 1 << 27
+
 
 def _coefficients(nu: float) -> np.ndarray:
     """4π × the stress per unit traction as combinations of the corner
@@ -219,6 +227,10 @@ class HalfSpaceStress:
       components transformed back: O(n log n) per depth.
     * :meth:`at`: the stresses at arbitrary points, summed over the cells
       directly, O(n) per point: for a few points, off the layers.
+
+    The depth kernels' spectra and the points' corner sums do not depend on
+    the tractions: they are kept (up to :data:`KEEP_BYTES`) and reused when
+    the same depths or points are asked under other tractions.
     """
 
     def __init__(self, grid: Grid, poisson_ratio: float) -> None:
@@ -228,6 +240,28 @@ class HalfSpaceStress:
         self.poisson_ratio = checked_number("HalfSpaceStress", "poisson_ratio", POISSON_RATIO,
                                             poisson_ratio)
         self._coef = _coefficients(self.poisson_ratio)
+        self._kept: dict = {}
+        self._kept_bytes = 0
+
+    def _keep(self, key, value: np.ndarray) -> np.ndarray:
+        if self._kept_bytes + value.nbytes <= KEEP_BYTES:
+            self._kept[key] = value
+            self._kept_bytes += value.nbytes
+        return value
+
+    def _spectra(self, z: float, components: list[int], s: tuple[int, int]) -> list[np.ndarray]:
+        """Per traction component, the spectra (6, s0, s1 // 2 + 1) of the
+        stress kernels at depth z (zero-padded to ``s``)."""
+        missing = [c for c in components if ("layer", z, c) not in self._kept]
+        new = {}
+        if missing:
+            nx, ny = self.grid.shape
+            F = _lattice_integrals(nx, ny, self.grid.dx, self.grid.dy, z)
+            # kernel of offset (di, dj) at [di + nx − 1, dj + ny − 1], zero-padded by the FFT
+            hat = scipy.fft.rfft2(_combine(self._coef[:, missing, :], F), s=s, axes=(2, 3))
+            for m, c in enumerate(missing):
+                new[c] = self._keep(("layer", z, c), np.ascontiguousarray(hat[:, m]))
+        return [new[c] if c in new else self._kept[("layer", z, c)] for c in components]
 
     def _tractions(self, owner: str, tractions: object) -> np.ndarray:
         t = np.asarray(tractions, dtype=float)
@@ -255,15 +289,12 @@ class HalfSpaceStress:
         out = np.zeros((d.size, nx, ny, 6))
         if not loaded:
             return out
-        coef = self._coef[:, loaded, :]
         for k, z in enumerate(d):
-            F = _lattice_integrals(nx, ny, self.grid.dx, self.grid.dy, float(z))
-            # kernel of offset (di, dj) at [di + nx − 1, dj + ny − 1], zero-padded by the FFT;
-            # the circular product then holds cell (i, j) at [i + nx − 1, j + ny − 1]
-            hat = scipy.fft.rfft2(_combine(coef, F), s=s, axes=(2, 3))
-            total = hat[:, 0] * spectra[loaded[0]]
+            # the circular product holds cell (i, j) at [i + nx − 1, j + ny − 1]
+            hat = self._spectra(float(z), loaded, s)
+            total = hat[0] * spectra[loaded[0]]
             for m, c in enumerate(loaded[1:], start=1):
-                total += hat[:, m] * spectra[c]
+                total += hat[m] * spectra[c]
             field = scipy.fft.irfft2(total, s=s, axes=(1, 2))
             out[k] = np.moveaxis(field[:, nx - 1: 2 * nx - 1, ny - 1: 2 * ny - 1], 0, -1)
         return out
@@ -298,9 +329,13 @@ class HalfSpaceStress:
         step = max(1, _CHUNK_VALUES // (_NF * (nx + 1) * (ny + 1)))
         for start in range(0, p.shape[0], step):
             q = p[start:start + step]
-            F = corner_functions((q[:, 0, None] - xc)[:, :, None], (q[:, 1, None] - yc)[:, None, :],
-                                 q[:, 2, None, None])
-            # a cell [x_i, x_i+1] × [y_j, y_j+1]: offsets X = x − x_i > X' = x − x_i+1
-            cells = F[:, :, :-1, :-1] - F[:, :, 1:, :-1] - F[:, :, :-1, 1:] + F[:, :, 1:, 1:]
+            key = ("at", q.tobytes())
+            cells = self._kept.get(key)
+            if cells is None:
+                F = corner_functions((q[:, 0, None] - xc)[:, :, None],
+                                     (q[:, 1, None] - yc)[:, None, :], q[:, 2, None, None])
+                # a cell [x_i, x_i+1] × [y_j, y_j+1]: offsets X = x − x_i > X' = x − x_i+1
+                cells = self._keep(key, F[:, :, :-1, :-1] - F[:, :, 1:, :-1] - F[:, :, :-1, 1:]
+                                   + F[:, :, 1:, 1:])
             out[start:start + step] = np.einsum("fmij,cfij->mc", cells, W)
         return out

@@ -30,7 +30,7 @@ import math
 import time
 
 import numpy as np
-import scipy.signal
+import scipy.fft
 import scipy.linalg
 
 from ..errors import ConfigError
@@ -485,9 +485,13 @@ class BodyCorrection:
             self._near_kernel = k[:, ::-1] if self.side == 1 else k
         K = self._near_kernel
         T = tl.reshape(g.nx, g.ny, 3)
-        te = np.stack([sum(scipy.signal.fftconvolve(T[:, :, d], K[:, :, c, d])
-                           for d in range(3)) for c in range(3)], axis=-1)
-        mx, my = te.shape[:2]  # 3 nx − 2, 3 ny − 2
+        # the full linear convolution of T with K, (3 nx − 2, 3 ny − 2, 3)
+        mx, my = T.shape[0] + K.shape[0] - 1, T.shape[1] + K.shape[1] - 1
+        s = (scipy.fft.next_fast_len(mx, True), scipy.fft.next_fast_len(my, True))
+        That = scipy.fft.rfft2(T, s=s, axes=(0, 1))
+        Khat = scipy.fft.rfft2(K, s=s, axes=(0, 1))
+        te = scipy.fft.irfft2(np.einsum("ijcd,ijd->ijc", Khat, That), s=s,
+                              axes=(0, 1))[:mx, :my]
         L = max(1, math.ceil(max(mx, my) / 64))
         px, py = -mx % L, -my % L
         te = np.pad(te, ((0, px), (0, py), (0, 0))).reshape((mx + px) // L, L, (my + py) // L,

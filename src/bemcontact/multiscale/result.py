@@ -15,7 +15,7 @@ from ..contact.law import OPEN, SLIP, STICK
 from ..contact.rolling import rolling_quantities
 from ..contact.verification import EPS
 from ..errors import ConvergenceError
-from ..halfspace import Grid
+from ..halfspace import Grid, HalfSpaceStress
 from .correction import BodyCorrection
 from ..bem.solution import BodySolution
 from .stress import (body_index, check_step, grid_stresses, grid_surface_points,
@@ -69,6 +69,8 @@ class GridResult:
     surfaces: tuple = ()
     #: the bodies' fields, computed once per body and step (:meth:`body_fields`)
     _fields: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    #: the half-space stress field of each Poisson ratio (:meth:`half_space`)
+    _half_spaces: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     #: how :meth:`stresses` computes them (said in the stress files' summary)
     stress_model: ClassVar[str] = ("the half-space field of the grid tractions below each "
                                    "body's contact surface")
@@ -78,6 +80,15 @@ class GridResult:
         ``points`` (n, 3) inside ``body`` at the end of load step ``step``
         (:func:`~bemcontact.multiscale.stress.grid_stresses`)."""
         return grid_stresses(self, body, points, step)
+
+    def half_space(self, b: int) -> HalfSpaceStress:
+        """Body ``b``'s (0 or 1) half-space stress field on the grid: one per
+        Poisson ratio, kept with the kernels it has computed (the load steps
+        and a body of the same ratio reuse them)."""
+        nu = self.corrections[b].body.material.poisson_ratio
+        if nu not in self._half_spaces:
+            self._half_spaces[nu] = HalfSpaceStress(self.grid, nu)
+        return self._half_spaces[nu]
 
     def surface_stresses(self, body: str, step: int = -1) -> np.ndarray:
         """The stress tensor (n, 6) on ``body``'s surface at each grid cell

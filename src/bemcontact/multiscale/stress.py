@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import ConfigError
-from ..halfspace import HalfSpaceStress, stress_tensors
+from ..halfspace import stress_tensors
 from .surface import quartic_terms
 
 
@@ -71,6 +71,9 @@ def grid_stresses(result, body: str, points, step: int = -1, clip: bool = False)
 #: benchmark's 60 x 60 grid; more on larger grids).
 LAYER_POINTS = 16
 
+#: Depth layers computed in one call (their traction spectra shared).
+LAYERS_AT_ONCE = 8
+
 
 def _sum(field, g, local, p) -> np.ndarray:
     """The field at ``local`` (n, 3) = (ξ, η, depth): points that lie below
@@ -86,11 +89,13 @@ def _sum(field, g, local, p) -> np.ndarray:
     key = np.rint(local[:, 2] / h * 1e9).astype(np.int64)
     done = np.zeros(len(local), dtype=bool)
     keys, counts = np.unique(key[centre], return_counts=True)
-    for k in keys[counts >= LAYER_POINTS]:
-        sel = np.flatnonzero(centre & (key == k))
-        layer = field.layer(p, float(local[sel, 2].mean()))
-        out[sel] = layer[ii[sel], jj[sel]]
-        done[sel] = True
+    groups = [np.flatnonzero(centre & (key == k)) for k in keys[counts >= LAYER_POINTS]]
+    for start in range(0, len(groups), LAYERS_AT_ONCE):
+        part = groups[start:start + LAYERS_AT_ONCE]
+        layers = field.layers(p, [float(local[sel, 2].mean()) for sel in part])
+        for layer, sel in zip(layers, part):
+            out[sel] = layer[ii[sel], jj[sel]]
+            done[sel] = True
     if not done.all():
         out[~done] = field.at(local[~done], p)
     return out
@@ -135,9 +140,8 @@ def check_step(result, step) -> None:
 def _field(result, b: int, step: int):
     """The body's half-space stress field and the tractions it carries (body
     1: mirrored, module docstring)."""
-    nu = result.corrections[b].body.material.poisson_ratio
     p = result.history[step].p
-    return HalfSpaceStress(result.grid, nu), p * np.array([-1.0, -1.0, 1.0]) if b == 0 else p
+    return result.half_space(b), p * np.array([-1.0, -1.0, 1.0]) if b == 0 else p
 
 
 def _global(result, b: int, s: np.ndarray) -> np.ndarray:

@@ -183,8 +183,11 @@ def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
     q = np.linalg.norm(f["tangential_traction"], axis=1)
     last = result.history[-1]
     rolls = last.rolling is not None
-    fig, axes = plt.subplots(1, 4 if rolls else 2, figsize=(20 if rolls else 10, 4.2),
-                             constrained_layout=True)
+    # a fixed layout (a constrained one measured every label and took as long
+    # as the drawing)
+    fig, axes = plt.subplots(1, 4 if rolls else 2, figsize=(20 if rolls else 10, 4.2))
+    fig.subplots_adjust(left=0.04 if rolls else 0.07, right=0.98, bottom=0.12, top=0.86,
+                        wspace=0.3)
     panels = [(axes[0], f["pressure"], "pressure", f"pressure [{stress}]" if stress else ""),
               (axes[1], q, "tangential traction",
                f"tangential traction [{stress}]" if stress else "")]

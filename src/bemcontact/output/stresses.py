@@ -123,6 +123,45 @@ def _cells(shape: tuple[int, ...]):
     return [("vertex", idx.reshape(-1, 1))]
 
 
+def _layout(plt, plane: StressField | None, line: StressField | None):
+    """The figure and its axes (the plane's, its colorbar's, the line's; None
+    where not drawn), placed in inches: the plane's panel as wide as its
+    equal aspect makes it (no blank band beside it), the line's beside it
+    sharing the depth axis when both are drawn.  A fixed layout: a
+    constrained one measured every label and took as long as the drawing."""
+    H, bottom, top = 4.8, 0.6, 0.4
+    h = H - bottom - top
+    boxes, x = {}, 0.0
+    if plane is not None:
+        lat = plane.lattice
+        a, b = [k for k, n in enumerate(lat.shape) if n > 1][:2]
+        du, dv = (float(np.ptp(lat.coordinates[k])) for k in (a, b))
+        width = min(max(h * du / dv, 1.6), 7.5) if dv > 0 else h
+        if line is not None:  # the colorbar on the left, the profile on the right
+            boxes["bar"] = (0.95, 0.18)
+            x = 0.95 + 0.18 + 0.8
+            boxes["plane"] = (x, width)
+            x += width + 0.3
+        else:
+            boxes["plane"] = (0.85, width)
+            boxes["bar"] = (0.85 + width + 0.25, 0.18)
+            x = 0.85 + width + 0.25 + 0.18 + 1.0
+    if line is not None:
+        x += 0.0 if plane is not None else 0.85
+        boxes["line"] = (x, 4.0)
+        x += 4.0 + 0.25
+    fig = plt.figure(figsize=(x, H))
+
+    def add(name, **kw):
+        if name not in boxes:
+            return None
+        left, w = boxes[name]
+        return fig.add_axes((left / x, bottom / H, w / x, h / H), **kw)
+
+    ax_plane, ax_bar = add("plane"), add("bar")
+    return fig, ax_plane, ax_bar, add("line", sharey=ax_plane)
+
+
 def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
     """A plane's von Mises map and a line's stresses against its distance,
     side by side when both are given (a section and its depth profile,
@@ -131,6 +170,7 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     from .plot import save_png
 
@@ -139,13 +179,11 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
     planes = [f for f in fields if sum(n > 1 for n in f.lattice.shape) >= 2]
     lines = [f for f in fields if sum(n > 1 for n in f.lattice.shape) == 1]
     both = bool(planes and lines)
-    fig, axes = plt.subplots(1, len(planes[:1]) + len(lines[:1]), squeeze=False,
-                             figsize=(11.5 if both else 6.8, 4.8), constrained_layout=True,
-                             sharey=both, gridspec_kw={"width_ratios": [2, 1]} if both else None)
-    axes = list(axes[0])
+    fig, ax_plane, ax_bar, ax_line = _layout(plt, planes[0] if planes else None,
+                                             lines[0] if lines else None)
     if planes:
         f = planes[0]
-        ax = axes.pop(0)
+        ax = ax_plane
         lat = f.lattice
         dims = [k for k, n in enumerate(lat.shape) if n > 1]
         # the lattice without its one-point directions; a full box: the middle
@@ -156,7 +194,7 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
         a, b = dims[:2]
         X, Y = np.meshgrid(lat.coordinates[a], lat.coordinates[b], indexing="ij")
         m = ax.contourf(X, Y, vm, levels=20, cmap="magma_r")
-        fig.colorbar(m, ax=ax, label=f"von Mises{su}", location="left" if both else "right")
+        fig.colorbar(m, cax=ax_bar, label=f"von Mises{su}", location="left" if both else "right")
         i, j = np.unravel_index(int(np.argmax(vm)), vm.shape)
         ax.plot(lat.coordinates[a][i], lat.coordinates[b][j], "c+", ms=14, mew=2,
                 label=f"max {vm[i, j]:.4g}{' ' + stress if stress else ''}")
@@ -169,7 +207,7 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
         ax.set_title(f"{f.request.body}: von Mises on {f.request.label}")
     if lines:
         f = lines[0]
-        ax = axes.pop(0)
+        ax = ax_line
         k = [k for k, n in enumerate(f.lattice.shape) if n > 1][0]
         x = f.lattice.coordinates[k]
         curves = [(f.stresses[:, j], name, "-", 1.2) for j, name in
@@ -180,7 +218,9 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
                 ax.plot(values, x, style, lw=lw, label=name)
             else:
                 ax.plot(x, values, style, lw=lw, label=name)
+        ax.xaxis.set_major_locator(MaxNLocator(5))
         if both:
+            ax.tick_params(labelleft=False)  # the depths: the section's axis
             ax.axvline(0.0, color="0.6", lw=0.6)
             ax.set_xlabel(f"stress{su}")
             ax.set_title(f"{f.request.body}: {f.request.label}")

@@ -225,6 +225,40 @@ def test_fft_layers_equal_the_direct_sum(loaded):
     assert np.array_equal(field.layers(np.zeros((grid.size, 3)), depths), np.zeros(layers.shape))
 
 
+def test_kept_kernels_serve_other_tractions(monkeypatch):
+    """What does not depend on the tractions (the depth kernels, the points'
+    corner sums) is computed once: under a second traction at the same depths
+    and points no corner function is evaluated, and the stresses are those
+    of a field that keeps nothing (the same kernels, the same products:
+    equal to FFT round-off, 1e-13 of the largest stress).  A traction
+    component first loaded later gets its kernels then."""
+    import bemcontact.halfspace.stress as module
+
+    grid = Grid((0.3, -0.1), 9, 7, 0.3, 0.2)
+    rng = np.random.default_rng(5)
+    normal = np.zeros((grid.size, 3))
+    normal[:, 2] = rng.standard_normal(grid.size)
+    t = rng.standard_normal((grid.size, 3))
+    depths, points = [0.05, 0.4, 2.0], np.array([[0.5, 0.3, 0.1], [-0.2, 0.9, 0.7]])
+    field = HalfSpaceStress(grid, NU)
+    field.layers(normal, depths)
+    field.layers(t, depths)  # the tangential kernels are added here
+    field.at(points, normal)
+    calls = []
+    real = module.corner_functions
+    monkeypatch.setattr(module, "corner_functions", lambda *a: calls.append(1) or real(*a))
+    layers, direct = field.layers(t, depths), field.at(points, t)
+    assert calls == []
+    monkeypatch.setattr(module, "KEEP_BYTES", 0)
+    fresh = HalfSpaceStress(grid, NU)
+    expected_layers, expected_direct = fresh.layers(t, depths), fresh.at(points, t)
+    assert len(calls) == len(depths) + 1
+    fresh.layers(t, depths)
+    assert len(calls) == 2 * len(depths) + 1  # nothing kept under a budget of 0
+    for got, want in ((layers, expected_layers), (direct, expected_direct)):
+        assert np.abs(got - want).max() <= 1e-13 * np.abs(want).max()
+
+
 @pytest.mark.parametrize("point", [(0.1, 0.05, 0.03), (0.3, 0.25, 0.02), (-0.45, 0.7, 0.1),
                                    (2.0, -1.5, 0.8)])
 def test_equilibrium(point):
