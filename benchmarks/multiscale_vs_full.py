@@ -14,7 +14,8 @@ nodes), cells of h.  Compared, as docs/validation.md reports them: the
 normal force at step P; the pressure at step P and the shear at Q = 0.5 μP,
 rms differences inside 0.9a at the full path's frame nodes (the grid's cell
 values interpolated bilinearly), in units of the full path's p0; the stick
-radius of each from the area of its stick nodes or cells.  Accuracy only:
+radius of each from the area of its stick nodes or cells, and from the
+traction at its stick–slip front (``cases.stick_front_radius``).  Accuracy only:
 the wall times are printed, not medians.
 """
 
@@ -87,6 +88,13 @@ def case(a_over_h: float) -> dict:
     q_ms = _at(g, ms.history[2].p[:, 0], xy2)
     c_full = cases.stick_radius(f2)
     c_ms = math.sqrt((ms.history[2].state == STICK).sum() * g.cell_area / math.pi)
+    top = ms.history[2]
+    front_full = cases.stick_front_radius(xy2, f2.pressure,
+                                          np.linalg.norm(f2.tangential_traction, axis=1),
+                                          f2.state, f2.weights, MU)
+    front_ms = cases.stick_front_radius(g.centres[:, :2], top.p[:, 2],
+                                        np.hypot(top.p[:, 0], top.p[:, 1]), top.state,
+                                        np.full(g.size, g.cell_area), MU)
     P_full, P_ms = full.history[0].normal_force, float(ms.history[0].force[2])
     return {
         "a_over_h": a_over_h, "P_full": P_full, "P_multiscale": P_ms,
@@ -94,6 +102,8 @@ def case(a_over_h: float) -> dict:
         "p_rms_diff": float(np.sqrt(np.mean((p_ms[in0] - f0.pressure[in0]) ** 2)) / p0),
         "q_rms_diff": float(np.sqrt(np.mean((q_ms[in2] - q_full[in2]) ** 2)) / p0),
         "c_full": c_full, "c_multiscale": c_ms, "c_diff": c_ms / c_full - 1.0,
+        "c_front_full": front_full, "c_front_multiscale": front_ms,
+        "c_front_diff": front_ms / front_full - 1.0,
         "estimate": max(c.estimate for c in ms.corrections),
         "applies": applicability(ms, coarse)["reason"] == "",
         "full_s": t1 - t0, "multiscale_s": t2 - t1,
@@ -107,13 +117,15 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     print(machine_line())
     print(f"{'a/h':>5s} {'P full':>9s} {'P ms':>9s} {'P diff':>8s} {'p rms':>8s} "
-          f"{'q rms':>8s} {'c diff':>8s} {'estimate':>9s} {'full s':>7s} {'ms s':>6s}")
+          f"{'q rms':>8s} {'c diff':>8s} {'c front':>8s} {'estimate':>9s} {'full s':>7s} "
+          f"{'ms s':>6s}")
     rows = []
     for aoh in args.a_over_h:
         r = case(aoh)
         rows.append(r)
         print(f"{aoh:5.0f} {r['P_full']:9.1f} {r['P_multiscale']:9.1f} {r['P_diff']:8.2%} "
               f"{r['p_rms_diff']:8.2%} {r['q_rms_diff']:8.2%} {r['c_diff']:8.2%} "
+              f"{r['c_front_diff']:8.2%} "
               f"{r['estimate']:9.1e} {r['full_s']:7.1f} {r['multiscale_s']:6.1f}", flush=True)
     if args.json:
         with open(args.json, "w") as f:
