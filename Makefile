@@ -60,16 +60,25 @@ demo: install
 # single-threaded BLAS: much of the suite is Python or one-threaded work, and
 # two BLAS threads per worker would only contend (measured on a 2-core AMD
 # EPYC: 9.7 minutes, 18.7 serial).  A run ended by a signal (an abort prints
-# no summary) names the test it was in.
-PYTEST_RUN = BEMCONTACT_TEST_TRACE=$(VENV)/.current-test $(PY) -m pytest -q
+# no summary) names the test it was in: BEMCONTACT_TEST_TRACE=FILE has the
+# test now starting written to FILE (tests/conftest.py); under pytest-xdist
+# each worker writes its own, FILE suffixed with its PYTEST_XDIST_WORKER
+# (.current-test.gw0, .current-test.gw1; trace.txt would be trace.gw0.txt),
+# and FILE is the controller's (the test last started in any worker).
+TRACE = $(VENV)/.current-test
+PYTEST_RUN = BEMCONTACT_TEST_TRACE=$(TRACE) $(PY) -m pytest -q
 PARALLEL = OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 SIGNALLED = { rc=$$?; if [ $$rc -gt 128 ]; then \
-	echo "pytest ended by signal $$((rc - 128)) in $$(cat $(VENV)/.current-test)"; fi; exit $$rc; }
+	echo "pytest ended by signal $$((rc - 128)) in $$(cat $(TRACE))"; \
+	for f in $(TRACE).gw*; do [ -f "$$f" ] && echo "  worker $${f\#\#*.}: $$(cat "$$f")"; done; \
+	fi; exit $$rc; }
 
 test: install $(VENV)/.testdeps
+	@rm -f $(TRACE) $(TRACE).gw*
 	@$(PARALLEL) $(PYTEST_RUN) -n 2 --dist loadscope -m "not slow and not packaging" || $(SIGNALLED)
 
 test-all: install $(VENV)/.testdeps
+	@rm -f $(TRACE) $(TRACE).gw*
 	@$(PYTEST_RUN) || $(SIGNALLED)
 
 # the packaging test: the wheel built, installed into a fresh venv (dependencies
