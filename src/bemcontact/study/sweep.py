@@ -61,21 +61,14 @@ from ..settings import Key, check_settings, setting
 from .cache import BodyCache
 from .points import Point, check_points, parse_values, points_of
 from .table import grid_outputs, outputs, write_figure, write_table
+from .workers import (START_METHOD, environ_kept, start_fork_server, stop_fork_server,
+                      worker_environ)
 
 #: The install command named when Dask is missing.
 INSTALL = 'pip install "bemcontact[sweep]"'
 MARKER = ".bemcontact-sweep.json"
 #: Condensations a worker process keeps in memory (least recently used dropped).
 KEEP = 2
-#: How the local cluster starts its worker processes: forks of a server that
-#: imports :data:`PRELOAD` once, while the sweep is planned (Dask's default,
-#: spawn, starts a fresh interpreter per worker that imports everything again
-#: after the cluster has started).
-START_METHOD = "forkserver"
-#: What the workers import before their first point: Dask, a point's task and
-#: what a point's output imports (meshio; matplotlib for frame_tractions.png
-#: and sweep.png).  A module that cannot be imported is left out.
-PRELOAD = ("distributed", "bemcontact.study.sweep", "meshio", "matplotlib.pyplot")
 
 
 @dataclass(frozen=True)
@@ -250,68 +243,19 @@ def _connect(options: SweepOptions, client=None, start_method: str = "spawn"):
         return
     import dask
 
-    with dask.config.set({"distributed.worker.multiprocessing-method": start_method}):
-        cluster, c = _local_cluster(options)
+    # Dask's nannies set the workers' environment in this process before each
+    # worker they start (and the marker of their children's process titles),
+    # and leave it: put back once the workers have started, and after the
+    # cluster (a worker restarted meanwhile set it again)
+    names = [*worker_environ(), "__DASK_PARENT_PID"]
+    with (dask.config.set({"distributed.worker.multiprocessing-method": start_method}),
+          environ_kept(names)):
+        with environ_kept(names):
+            cluster, c = _local_cluster(options)
         try:
             yield c
         finally:
             _close(cluster, c)
-
-
-def _start_fork_server() -> str:
-    """Start the local cluster's fork server now, in the background: it
-    imports :data:`PRELOAD` while this process plans the sweep, and the
-    workers are forks of it (a server of one thread, unlike this process
-    once Dask runs).  It gets the environment Dask gives spawned workers
-    (``distributed.nanny.pre-spawn-environ``: one BLAS thread, ...) and
-    ignores SIGINT, as the workers forked from it: a Ctrl-C stops this
-    process only, which closes the cluster (spawned workers each printed a
-    KeyboardInterrupt traceback).  It ends when this process does.  Returns
-    the start method: ``spawn`` where there is no fork server (Windows)."""
-    import multiprocessing
-    import multiprocessing.forkserver
-
-    import dask
-    import distributed  # noqa: F401  (its configuration)
-
-    env = {k: os.environ.get(k, str(v)) for k, v in
-           dask.config.get("distributed.nanny.pre-spawn-environ").items() if v is not None}
-    if env.get("PYTHONHASHSEED") in (None, "0"):  # as distributed.nanny.Nanny
-        env["PYTHONHASHSEED"] = "6640"
-    try:
-        ctx = multiprocessing.get_context(START_METHOD)
-    except ValueError:
-        return "spawn"
-    os.environ.update(env)  # what the Nanny does before spawning a worker
-    ctx.set_forkserver_preload(list(PRELOAD))
-    # an ignored signal stays ignored in a new interpreter, which then installs
-    # no KeyboardInterrupt handler, and in the forks of the server
-    main = threading.current_thread() is threading.main_thread()
-    old = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
-    try:
-        multiprocessing.forkserver.ensure_running()
-    finally:
-        if old is not None:
-            signal.signal(signal.SIGINT, old)
-    return START_METHOD
-
-
-def _stop_fork_server() -> None:
-    """End the fork server of a sweep that failed its checks at once: it
-    would import for a second more, holding the terminal's streams open
-    (a script reading them waited for it).  Uses multiprocessing's own
-    (private) stop; without it the server ends by itself."""
-    import multiprocessing.forkserver
-
-    server = getattr(multiprocessing.forkserver, "_forkserver", None)
-    pid = getattr(server, "_forkserver_pid", None)
-    stop = getattr(server, "_stop", None)
-    if pid is None or stop is None:
-        return
-    with contextlib.suppress(OSError):
-        os.kill(pid, signal.SIGTERM)
-    with contextlib.suppress(Exception):
-        stop()
 
 
 def _warm() -> None:
@@ -512,12 +456,12 @@ def run_sweep(
     # the cluster itself starts after: bad input fails before anything is
     # written or started (a cluster started during the planning saved 0.25 s
     # but a Ctrl-C left it half-started, with warnings)
-    method = _start_fork_server() if client is None and not opt.scheduler else "spawn"
+    method = start_fork_server() if client is None and not opt.scheduler else "spawn"
     try:
         plan = plan_sweep(problem, out, vary)
     except BaseException:
         if method == START_METHOD:
-            _stop_fork_server()
+            stop_fork_server()
         raise
     with _connect(opt, client, method) as c:
         return _execute(plan, c, opt, progress, started)

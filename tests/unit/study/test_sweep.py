@@ -4,6 +4,7 @@ failing points in the table, resume, 1 and N workers, bad input."""
 from __future__ import annotations
 
 import json
+import os
 import re
 import shutil
 import sys
@@ -288,6 +289,27 @@ def test_command_line_local_cluster(tmp_path, capsys, swept):
     rows = read_table(out / "table.csv")
     assert [float(r["normal_force"]) for r in rows] == pytest.approx(
         [r["normal_force"] for r in ref.rows], rel=1e-10, abs=0)
+
+
+def test_the_workers_environment_is_theirs_only(monkeypatch):
+    """The local cluster's workers have Dask's pre-spawn environment (one
+    BLAS thread, ...); this process has it neither while the fork server or
+    the workers start nor after the cluster (left behind, it made every
+    process started from here afterwards single-threaded)."""
+    from bemcontact.study import sweep, workers
+
+    names = workers.worker_environ()
+    for k in [*names, "__DASK_PARENT_PID"]:
+        monkeypatch.delenv(k, raising=False)
+    before = dict(os.environ)
+    method = workers.start_fork_server()
+    assert dict(os.environ) == before
+    with sweep._connect(SweepOptions(workers=1), None, method) as c:
+        assert dict(os.environ) == before
+        seen = c.run(lambda: {k: __import__("os").environ.get(k) for k in names})
+    assert dict(os.environ) == before
+    assert len(seen) == 1
+    assert all(v is not None for v in next(iter(seen.values())).values()), seen
 
 
 def test_interrupted_then_resumed(tmp_path, client, swept):
