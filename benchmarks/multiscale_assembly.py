@@ -33,7 +33,6 @@ from _common import machine_line, run_median, run_one  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "two_indenters_multiscale.toml"
-APPROACH = {"left": 0.03, "right": 0.02}
 
 
 def _assembly() -> dict:
@@ -65,26 +64,13 @@ def _alone() -> dict:
 
 
 def _full() -> dict:
-    from bemcontact.bem import Displacement, ElasticBody, Fixed, LinearElastic
-    from bemcontact.contact import ContactPair, ContactProblem, SolverOptions
-    from bemcontact.mesh import shapes
+    from bemcontact.contact import SolverOptions
+    from bemcontact.validation.assemblies import two_indenters_on_block
 
-    h = 0.11
-    mat = LinearElastic(210e3, 0.3)
-    ring = ((0.0, 0.5), (1.1, 0.5), (1.25, h), (2.75, h), (2.9, 0.5))
-    block = ElasticBody(shapes.graded_block((-10, -10, -10), (10, 10, 0), (0, 0, 0),
-                                            fine_size=h, coarse_size=2.5, size_profile=ring,
-                                            growth=0.45), mat, {"zmin": Fixed()}, name="block")
-    caps = [ElasticBody(shapes.spherical_cap(10.0, 10.0, apex=(x, 0.0, 0.0), axis=1,
-                                             fine_size=h, coarse_size=2.5, fine_radius=0.75,
-                                             growth=0.45, order=1), mat,
-                        {"base": [Displacement((0.0, 0.0, -APPROACH[n]))]}, name=n)
-            for n, x in (("left", -2.0), ("right", 2.0))]
-    pairs = [ContactPair("zmax", "contact", 0.3, bodies=("block", c.name), search_distance=0.05,
-                         frame_on="body1") for c in caps]
-    res = ContactProblem(bodies=[block, *caps], pairs=pairs).solve(SolverOptions(load_steps=4))
+    problem = two_indenters_on_block(0.11)
+    res = problem.solve(SolverOptions(load_steps=4))
     return {"forces": [float(p.normal_force) for p in res.pairs],
-            "nodes": sum(int(b.discretization.n_points) for b in [block, *caps])}
+            "nodes": sum(int(b.discretization.n_points) for b in problem.bodies)}
 
 
 def one(kind: str) -> dict:

@@ -33,14 +33,13 @@ from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
-import scipy.spatial
 
 from ..bem.solution import BodySolution
 from ..contact.verification import EPS
-from ..errors import BemcontactError, ConfigError, ConvergenceError
+from ..errors import ConfigError, ConvergenceError
 from ..halfspace import Grid
 from .correction import BodyCorrection, quadratic_basis, solve_together
-from .pair import LIMITS, GridOptions, PairSetup, applicability
+from .pair import LIMITS, GridOptions, PairSetup, applicability, fitted
 from .result import GridResult
 from .stress import check_step, grid_stresses
 
@@ -237,14 +236,7 @@ def solve_assembly_on_grid(problem, steps=None, options: GridOptions | None = No
     pair (module docstring).  What the grid cannot take is a one-line
     ConfigError; sweeps that do not settle a ConvergenceError with their
     history."""
-    try:
-        return _solve(problem, steps, options, solver)
-    except BemcontactError:
-        raise
-    except (np.linalg.LinAlgError, scipy.spatial.QhullError, ValueError) as exc:
-        raise ConfigError(f"method = \"multiscale\": the contact's geometry could not be "
-                          f"fitted ({type(exc).__name__}: {exc}); use method = \"full\"",
-                          location={"field": "contact.method"}) from exc
+    return fitted(_solve, problem, steps, options, solver)
 
 
 def _solve(problem, steps, options, solver) -> GridAssemblyResult:

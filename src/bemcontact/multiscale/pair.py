@@ -228,8 +228,14 @@ def solve_on_grid(problem, steps=None, options: GridOptions | None = None,
     through its load ``steps`` (default: one step to the bodies' own
     conditions) on the contact grid (see the module docstring).  A
     geometry the fits or the sizing cannot take is a one-line ConfigError."""
+    return fitted(_solve_on_grid, problem, steps, options, solver)
+
+
+def fitted(solve, *args):
+    """``solve(*args)`` (a solve on the grid) with what the fits of the contact's
+    geometry raise (not bemcontact's own errors) a one-line ConfigError."""
     try:
-        return _solve_on_grid(problem, steps, options, solver)
+        return solve(*args)
     except BemcontactError:
         raise
     except (np.linalg.LinAlgError, scipy.spatial.QhullError, ValueError) as exc:

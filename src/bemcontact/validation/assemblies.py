@@ -1,6 +1,8 @@
 """Validation cases of assemblies (several bodies and contact pairs):
 a ball squeezed between two blocks, mirror symmetric by construction
-(docs/validation.md)."""
+(docs/validation.md); the two indenters of
+examples/two_indenters_multiscale.toml meshed finely for the full path (the
+reference of the assembly on the contact grid)."""
 
 from __future__ import annotations
 
@@ -73,4 +75,40 @@ def transmitted_force(result, body: str = "upper", region: str = "zmax") -> floa
     return -float(result.reactions()[body][region][2])
 
 
-__all__ = ["ball_between_blocks", "transmitted_force"]
+#: examples/two_indenters_multiscale.toml's indenters: name -> (apex x in mm,
+#: the approach its base is pushed down by in mm).
+TWO_INDENTERS = {"left": (-2.0, 0.03), "right": (2.0, 0.02)}
+
+
+def two_indenters_on_block(fine_size: float, names=tuple(TWO_INDENTERS)) -> ContactProblem:
+    """examples/two_indenters_multiscale.toml's bodies meshed finely for the
+    full path: the steel block (20 x 20 x 10 mm, top face z = 0, base
+    ``zmin`` clamped) at ``fine_size`` over a ring 1.25-2.75 mm about its
+    centre (both contacts; 0.5 mm inside and outside it, growth 0.45) and the
+    steel hemispheres (R = 10 mm, apexes at (x, 0, 0) of :data:`TWO_INDENTERS`)
+    ``names`` of ``left`` and ``right``, each at ``fine_size`` within 0.75 mm
+    of its apex, its ``base`` pushed down by its approach; one pair per
+    indenter, block ``zmax`` / indenter ``contact``, μ = 0.3, search distance
+    0.05 mm, the frame on the block.  The example's history:
+    ``SolverOptions(load_steps=4)``."""
+    unknown = [n for n in names if n not in TWO_INDENTERS]
+    if unknown or not names:
+        raise ConfigError(f"two_indenters_on_block: names must be some of {list(TWO_INDENTERS)}, "
+                          f"got {list(names)!r}")
+    h = fine_size
+    mat = LinearElastic(210e3, 0.3)
+    ring = ((0.0, 0.5), (1.1, 0.5), (1.25, h), (2.75, h), (2.9, 0.5))
+    block = ElasticBody(geometry.graded_block((-10, -10, -10), (10, 10, 0), (0, 0, 0),
+                                              fine_size=h, coarse_size=2.5, size_profile=ring,
+                                              growth=0.45), mat, {"zmin": Fixed()}, name="block")
+    caps = [ElasticBody(geometry.spherical_cap(10.0, 10.0, apex=(x, 0.0, 0.0), axis=1,
+                                               fine_size=h, coarse_size=2.5, fine_radius=0.75,
+                                               growth=0.45, order=1), mat,
+                        {"base": [Displacement((0.0, 0.0, -approach))]}, name=n)
+            for n, (x, approach) in TWO_INDENTERS.items() if n in names]
+    pairs = [ContactPair("zmax", "contact", 0.3, bodies=("block", c.name), search_distance=0.05,
+                         frame_on="body1") for c in caps]
+    return ContactProblem(bodies=[block, *caps], pairs=pairs)
+
+
+__all__ = ["ball_between_blocks", "transmitted_force", "TWO_INDENTERS", "two_indenters_on_block"]

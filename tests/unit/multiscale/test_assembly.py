@@ -19,9 +19,10 @@ from bemcontact.multiscale.assembly import (GridAssemblyResult, assembly_applica
 from bemcontact.multiscale.pair import GridOptions, solve_on_grid
 from bemcontact.problemfile import load_problem
 from bemcontact.problemfile.method import on_grid
+from bemcontact.validation.assemblies import TWO_INDENTERS, two_indenters_on_block
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[3] / "examples"
-APPROACH = {"left": 0.03, "right": 0.02}
+APPROACH = {name: approach for name, (_, approach) in TWO_INDENTERS.items()}
 
 
 @pytest.fixture(scope="module")
@@ -163,26 +164,11 @@ def test_auto_takes_the_full_path_for_a_floating_ball():
 
 
 def _full_path(names, h: float):
-    """The example's bodies meshed finely for the full path: the block at
-    ``h`` over a ring 1.25-2.75 mm about its centre (both contacts), each
-    indenter at ``h`` within 0.75 mm of its apex; the indenters ``names``."""
-    from bemcontact.bem import Fixed, LinearElastic
-    from bemcontact.mesh import shapes
-
-    mat = LinearElastic(210e3, 0.3)
-    ring = ((0.0, 0.5), (1.1, 0.5), (1.25, h), (2.75, h), (2.9, 0.5))
-    block = ElasticBody(shapes.graded_block((-10, -10, -10), (10, 10, 0), (0, 0, 0),
-                                            fine_size=h, coarse_size=2.5, size_profile=ring,
-                                            growth=0.45), mat, {"zmin": Fixed()}, name="block")
-    caps = [ElasticBody(shapes.spherical_cap(10.0, 10.0, apex=(x, 0.0, 0.0), axis=1,
-                                             fine_size=h, coarse_size=2.5, fine_radius=0.75,
-                                             growth=0.45, order=1), mat,
-                        {"base": [Displacement((0.0, 0.0, -APPROACH[n]))]}, name=n)
-            for n, x in (("left", -2.0), ("right", 2.0)) if n in names]
-    pairs = [ContactPair("zmax", "contact", 0.3, bodies=("block", c.name), search_distance=0.05,
-                         frame_on="body1") for c in caps]
-    res = ContactProblem(bodies=[block, *caps], pairs=pairs).solve(
-        SolverOptions(load_steps=INCREMENTS))
+    """The example's bodies meshed finely for the full path
+    (:func:`~bemcontact.validation.assemblies.two_indenters_on_block`: ``h``
+    near both contacts), the indenters ``names``, solved through the
+    example's history: each pair's contact force."""
+    res = two_indenters_on_block(h, names).solve(SolverOptions(load_steps=INCREMENTS))
     return {p.names[1]: np.asarray(p.contact_force, dtype=float) for p in (res.pairs or [res])}
 
 

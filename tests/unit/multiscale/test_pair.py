@@ -10,6 +10,7 @@ import json
 
 import numpy as np
 import pytest
+import scipy.spatial
 
 from bemcontact.bem import Displacement, ElasticBody, Fixed, LinearElastic
 from bemcontact.cli import main
@@ -227,3 +228,34 @@ def test_auto_sends_a_sphere_meshed_too_coarsely_for_its_near_field_to_the_full_
     res = solve_on_grid(sphere(0.5))
     check = applicability(res, sphere(0.5))["checks"]["element_over_near_radius"]
     assert check["holds"] and check["value"] < LIMITS["element_over_near_radius"] - 0.1
+
+
+@pytest.mark.parametrize("exc", [np.linalg.LinAlgError("singular matrix"),
+                                 scipy.spatial.QhullError("flat"),
+                                 ValueError("no points")])
+def test_what_the_fits_raise_is_one_line_naming_the_full_path(monkeypatch, exc):
+    """A pair and an assembly on the grid (one helper): an error of the fits
+    of the contact's geometry becomes a one-line ConfigError at
+    contact.method naming method = "full"; bemcontact's own pass as raised."""
+    from bemcontact.multiscale import assembly, pair
+
+    def raising(error):
+        def solve(*args):
+            raise error
+        return solve
+
+    for module, name, solve in ((pair, "_solve_on_grid", pair.solve_on_grid),
+                                (assembly, "_solve", assembly.solve_assembly_on_grid)):
+        monkeypatch.setattr(module, name, raising(exc))
+        with pytest.raises(ConfigError) as info:
+            solve(None)
+        assert str(info.value) == (
+            f"method = \"multiscale\": the contact's geometry could not be fitted "
+            f"({type(exc).__name__}: {exc}); use method = \"full\"")
+        assert info.value.location == {"field": "contact.method"}
+        assert info.value.__cause__ is exc
+        own = ConfigError("its own")
+        monkeypatch.setattr(module, name, raising(own))
+        with pytest.raises(ConfigError) as info:
+            solve(None)
+        assert info.value is own
