@@ -169,10 +169,7 @@ def _quads(result: GridResult):
 
 
 def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     from .plot import save_png
 
@@ -185,7 +182,8 @@ def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
     rolls = last.rolling is not None
     # a fixed layout (a constrained one measured every label and took as long
     # as the drawing)
-    fig, axes = plt.subplots(1, 4 if rolls else 2, figsize=(20 if rolls else 10, 4.2))
+    fig = Figure(figsize=(20 if rolls else 10, 4.2))
+    axes = fig.subplots(1, 4 if rolls else 2)
     fig.subplots_adjust(left=0.04 if rolls else 0.07, right=0.98, bottom=0.12, top=0.86,
                         wspace=0.3)
     panels = [(axes[0], f["pressure"], "pressure", f"pressure [{stress}]" if stress else ""),
@@ -207,7 +205,6 @@ def _figure(path: pathlib.Path, result: GridResult, f, units) -> None:
     fig.suptitle(f"the contact grid, {g.nx} × {g.ny} cells of {g.dx:.3g}"
                  + (f" {length}" if length else "") + f", step {result.history[-1].label}")
     save_png(fig, path)
-    plt.close(fig)
 
 
 def _adhesion_map(fig, ax, result: GridResult, extent) -> None:

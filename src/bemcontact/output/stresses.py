@@ -123,7 +123,7 @@ def _cells(shape: tuple[int, ...]):
     return [("vertex", idx.reshape(-1, 1))]
 
 
-def _layout(plt, plane: StressField | None, line: StressField | None):
+def _layout(plane: StressField | None, line: StressField | None):
     """The figure and its axes (the plane's, its colorbar's, the line's; None
     where not drawn), placed in inches: the plane's panel as wide as its
     equal aspect makes it (no blank band beside it), the line's beside it
@@ -150,7 +150,9 @@ def _layout(plt, plane: StressField | None, line: StressField | None):
         x += 0.0 if plane is not None else 0.85
         boxes["line"] = (x, 4.0)
         x += 4.0 + 0.25
-    fig = plt.figure(figsize=(x, H))
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(x, H))
 
     def add(name, **kw):
         if name not in boxes:
@@ -166,10 +168,6 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
     """A plane's von Mises map and a line's stresses against its distance,
     side by side when both are given (a section and its depth profile,
     sharing the depth axis)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.ticker import MaxNLocator
 
     from .plot import save_png
@@ -179,7 +177,7 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
     planes = [f for f in fields if sum(n > 1 for n in f.lattice.shape) >= 2]
     lines = [f for f in fields if sum(n > 1 for n in f.lattice.shape) == 1]
     both = bool(planes and lines)
-    fig, ax_plane, ax_bar, ax_line = _layout(plt, planes[0] if planes else None,
+    fig, ax_plane, ax_bar, ax_line = _layout(planes[0] if planes else None,
                                              lines[0] if lines else None)
     if planes:
         f = planes[0]
@@ -231,7 +229,6 @@ def _figure(path: pathlib.Path, fields: list[StressField], units) -> None:
             ax.set_title(f"{f.request.body}: {f.request.label} ({f.request.kind})")
         ax.legend(ncol=2, fontsize=8)
     save_png(fig, path)
-    plt.close(fig)
 
 
 __all__ = ["file_names", "stress_fields", "stress_summary", "write_stress_files"]
