@@ -147,7 +147,7 @@ def _layout(plane: StressField | None, line: StressField | None):
             boxes["bar"] = (0.85 + width + 0.25, 0.18)
             x = 0.85 + width + 0.25 + 0.18 + 1.0
     if line is not None:
-        x += 0.0 if plane is not None else 0.85
+        x = x if plane is not None else 0.85  # a line alone: its own axis labels' margin
         boxes["line"] = (x, 4.0)
         x += 4.0 + 0.25
     from matplotlib.figure import Figure
